@@ -1,0 +1,70 @@
+/// Approximations: shape functions N_J(x) and derivatives built from particles. One virtual
+/// call evaluates a whole batch of points.
+#pragma once
+#include <memory>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "methods/approximations/shape_table.hpp"
+#include "methods/core/registry.hpp"
+#include "methods/kernels/kernel.hpp"
+#include "methods/particles.hpp"
+
+namespace mfv {
+
+class Approximation {
+ public:
+  virtual ~Approximation() = default;
+  /// Shape functions and derivatives up to `order` (0..2) at the columns of `points`.
+  /// Throws SingularError naming the point when a moment matrix cannot be inverted.
+  virtual ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                              int order) const = 0;
+  /// Fewest particles a point's support must hold (the size of the polynomial basis).
+  virtual int minimum_support_count(int dim) const = 0;
+  /// Whether N_J(x_I) = δ_IJ (then essential conditions can be imposed directly).
+  virtual bool interpolating() const { return false; }
+  /// Whether Σ N_J reproduces linear fields (consistency the tests hold it to).
+  virtual int reproduction_order() const = 0;
+};
+
+/// How a moment-corrected kernel approximation is put together (Medusa's WLS<basis, weight,
+/// correction> in one struct): basis order, weight, whether particle volumes enter the
+/// weights (RKPM, SPH) or not (MLS), and how derivatives are taken.
+struct CorrectedKernelOptions {
+  int basis_order = 1;            ///< 0: Shepard, 1: linear (EFG/RKPM), 2: quadratic
+  bool correct = true;            ///< false: plain kernel sum (SPH), no moment matrix
+  bool volume_weighted = false;   ///< weights carry ΔV_J (RKPM eq 6.1a) or not (MLS eq 6.3)
+  bool normalize_kernel = false;  ///< divide W by its integral (SPH needs ∫W = 1)
+  bool diffuse_derivative = false;///< DEM/diffuse derivative: only the basis is differentiated (004 II eq 6.6)
+};
+
+/// Basis × weight × correction: N_J(x) = p(x)ᵀ M(x)⁻¹ p(x_J) w_J(x), M = Σ_J w_J p(x_J) p(x_J)ᵀ
+/// (the moment matrix, 004 II eq 3.3 / 001 eq 40), w_J = W(|x - x_J|/a_J)/a_J^d [ΔV_J].
+class CorrectedKernelApproximation final : public Approximation {
+ public:
+  CorrectedKernelApproximation(std::shared_ptr<const Kernel> kernel, CorrectedKernelOptions opts,
+                               std::string name);
+  ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                      int order) const override;
+  int minimum_support_count(int dim) const override;
+  int reproduction_order() const override { return options_.correct ? options_.basis_order : -1; }
+  const Kernel& kernel() const { return *kernel_; }
+
+ private:
+  std::shared_ptr<const Kernel> kernel_;
+  CorrectedKernelOptions options_;
+  std::string name_;
+};
+
+/// Piecewise-linear hat functions on the particles taken as 1D element nodes (FEM).
+class LinearElementApproximation final : public Approximation {
+ public:
+  ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                      int order) const override;
+  int minimum_support_count(int) const override { return 2; }
+  bool interpolating() const override { return true; }
+  int reproduction_order() const override { return 1; }
+};
+
+}  // namespace mfv

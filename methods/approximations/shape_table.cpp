@@ -1,0 +1,32 @@
+#include "methods/approximations/shape_table.hpp"
+
+#include <stdexcept>
+
+namespace mfv {
+
+Eigen::VectorXd ShapeTable::interpolate(const Eigen::VectorXd& u) const {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(points());
+  for (int q = 0; q < points(); ++q)
+    for (int k = offsets[q]; k < offsets[q + 1]; ++k) out[q] += value[k] * u[index[k]];
+  return out;
+}
+
+Eigen::VectorXd ShapeTable::interpolate_derivative(const Eigen::VectorXd& u, int d) const {
+  if (order < 1) throw std::logic_error("shape table holds no first derivatives");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(points());
+  for (int q = 0; q < points(); ++q)
+    for (int k = offsets[q]; k < offsets[q + 1]; ++k) out[q] += grad[k * dim + d] * u[index[k]];
+  return out;
+}
+
+Eigen::VectorXd ShapeTable::interpolate_second_derivative(const Eigen::VectorXd& u, int d) const {
+  if (order < 2) throw std::logic_error("shape table holds no second derivatives");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(points());
+  const int nh = nhess();
+  for (int q = 0; q < points(); ++q)
+    for (int k = offsets[q]; k < offsets[q + 1]; ++k)
+      out[q] += hess[k * nh + d * dim + d] * u[index[k]];
+  return out;
+}
+
+}  // namespace mfv

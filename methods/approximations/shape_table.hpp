@@ -1,0 +1,31 @@
+/// Shape functions N_J and their derivatives at a batch of points, stored row-compressed
+/// (one row per point, one entry per particle J whose support covers the point).
+#pragma once
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace mfv {
+
+struct ShapeTable {
+  int dim = 1;
+  int order = 0;                ///< highest derivative order stored (0, 1 or 2)
+  std::vector<int> offsets{0};  ///< row starts, size points()+1
+  std::vector<int> index;       ///< particle J of each entry
+  std::vector<double> value;    ///< N_J(x)
+  std::vector<double> grad;     ///< ∂N_J/∂x_i, dim per entry
+  std::vector<double> hess;     ///< ∂²N_J/∂x_i∂x_j, dim·dim per entry (row-major)
+
+  int points() const { return static_cast<int>(offsets.size()) - 1; }
+  int entries() const { return static_cast<int>(index.size()); }
+  int nhess() const { return dim * dim; }
+
+  /// Σ_J N_J(x_q) u_J for every point q (u: one scalar per particle).
+  Eigen::VectorXd interpolate(const Eigen::VectorXd& u) const;
+  /// Σ_J ∂N_J/∂x_d (x_q) u_J.
+  Eigen::VectorXd interpolate_derivative(const Eigen::VectorXd& u, int d = 0) const;
+  /// Σ_J ∂²N_J/∂x_d∂x_d (x_q) u_J.
+  Eigen::VectorXd interpolate_second_derivative(const Eigen::VectorXd& u, int d = 0) const;
+};
+
+}  // namespace mfv

@@ -1,0 +1,36 @@
+/// `efg`: element-free Galerkin, MLS with linear basis (001 §3.5), background-cell Gauss or
+/// nodal integration; support radius dmax·Δx.
+#include "methods/methods/register.hpp"
+
+namespace mfv {
+
+void register_efg(MethodRegistry& r, const MethodParts& parts) {
+  ParamSchema s = common_galerkin_schema(10);
+  s.push_back(ParamSpec::choice("kernel", "cubic-window", parts.kernels.keys(), "weight function"));
+  s.push_back(ParamSpec::positive("dmax", 2.0, "support size over particle spacing (a = dmax dx)"));
+  s.push_back(ParamSpec::count("basis", 1, 0, "MLS basis order (0, 1, 2)"));
+  s.push_back(ParamSpec::choice("integration", "gauss-cells", {"gauss-cells", "nodal", "stress-points"},
+                                "where the weak form is integrated"));
+  r.add("efg", "element-free Galerkin: MLS shape functions (001 eqs 37-43)", s,
+        [parts](const Params& p) {
+          GalerkinRecipe g;
+          Params a;
+          a.set("kernel", p.text("kernel").c_str());
+          a.set("basis", p.number("basis"));
+          g.trial = parts.approximations.create("mls", a);
+          Params q;
+          if (p.text("integration") == "gauss-cells") q.set("n", p.number("quad"));
+          g.integration = parts.integrations.create(p.text("integration"), q);
+          // The weight's own support (in s) times the dilation is the support radius dmax·Δx.
+          g.dilation_over_spacing =
+              p.number("dmax") / parts.kernels.create(p.text("kernel"))->support();
+          g.essential = essential_from(p);
+          g.penalty = p.number("penalty");
+          g.description = fmt::format("MLS basis {} with {} weight, dmax={}, {}, bc={}",
+                                      p.integer("basis"), p.text("kernel"), p.number("dmax"),
+                                      p.text("integration"), p.text("bc"));
+          return make_galerkin_method(std::move(g));
+        });
+}
+
+}  // namespace mfv

@@ -1,0 +1,37 @@
+/// Method registry and its one-line-per-method registration list.
+#pragma once
+#include "methods/approximations/register.hpp"
+#include "methods/integration/integration.hpp"
+#include "methods/methods/method.hpp"
+
+namespace mfv {
+
+/// The registries a method is composed from.
+struct MethodParts {
+  const KernelRegistry& kernels;
+  const ApproximationRegistry& approximations;
+  const IntegrationRegistry& integrations;
+};
+
+void register_fem(MethodRegistry&, const MethodParts&);
+void register_efg(MethodRegistry&, const MethodParts&);
+void register_rkpm(MethodRegistry&, const MethodParts&);
+void register_sph(MethodRegistry&, const MethodParts&);
+void register_wavelet(MethodRegistry&, const MethodParts&);
+
+/// Registers every method: add one line here for a new method.
+inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
+  register_fem(r, parts);
+  register_efg(r, parts);
+  register_rkpm(r, parts);
+  register_sph(r, parts);
+  register_wavelet(r, parts);
+}
+
+/// Dilation a = scale · 2^j · Δx of the RKPM windows, by the rule a paper states:
+/// eq7.4: a = 2^{j+0.5} σ with Δx/(σ√π) = 1/√2 (Gaussian) or a = 2^{j+0.5} Δx (cubic window);
+/// eq6.10: a0 = 2^j Δx √(2/π); custom: the given scale.
+double rkpm_dilation_scale(const Params& p);
+ParamSchema rkpm_window_schema();
+
+}  // namespace mfv

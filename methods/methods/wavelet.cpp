@@ -1,0 +1,38 @@
+/// `wavelet`: multi-scale RKPM with M wavelet dilations on top of the Gaussian RK window
+/// (004 I Table 6.1 rows "2 WL dil." and "4 WL dil.").
+#include "methods/methods/register.hpp"
+
+#include <cmath>
+
+namespace mfv {
+
+void register_wavelet(MethodRegistry& r, const MethodParts& parts) {
+  ParamSchema s = common_galerkin_schema(10);
+  for (auto& spec : rkpm_window_schema())
+    if (spec.name != "kernel") s.push_back(spec);
+  s.push_back(ParamSpec::count("bands", 2, 0, "number of wavelet dilations M"));
+  s.push_back(ParamSpec::positive("wscale", 1.0, "first wavelet dilation over dx"));
+  r.add("wavelet", "multi-scale RKPM: Gaussian RK low band plus M Mexican-hat wavelet bands", s,
+        [parts](const Params& p) {
+          GalerkinRecipe g;
+          Params a;
+          a.set("bands", p.number("bands"));
+          a.set("wscale", p.number("wscale"));
+          g.trial = parts.approximations.create("wavelet", a);
+          Params q;
+          q.set("n", p.number("quad"));
+          g.integration = parts.integrations.create("gauss-cells", q);
+          Params window = p;
+          window.set("kernel", "gaussian");
+          g.dilation_over_spacing = rkpm_dilation_scale(window) * std::pow(2.0, p.number("j"));
+          g.essential = essential_from(p);
+          g.penalty = p.number("penalty");
+          g.description = fmt::format("Gaussian RK low band j={} (a={:.4g} dx, {}) + {} wavelet "
+                                      "dilations from {} dx, bc={}",
+                                      p.number("j"), g.dilation_over_spacing, p.text("rule"),
+                                      p.integer("bands"), p.number("wscale"), p.text("bc"));
+          return make_galerkin_method(std::move(g));
+        });
+}
+
+}  // namespace mfv

@@ -1,0 +1,59 @@
+#include "methods/particles.hpp"
+
+#include <algorithm>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "methods/core/errors.hpp"
+
+namespace mfv {
+
+Domain Domain::interval(double a, double b) {
+  Domain d;
+  d.dim = 1;
+  d.lower = Eigen::VectorXd::Constant(1, a);
+  d.upper = Eigen::VectorXd::Constant(1, b);
+  return d;
+}
+
+double Domain::measure() const { return (upper - lower).prod(); }
+
+Eigen::VectorXd voronoi_volumes_1d(const Eigen::VectorXd& x, double a, double b) {
+  const Eigen::Index n = x.size();
+  Eigen::VectorXd v(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double left = i == 0 ? a : 0.5 * (x[i - 1] + x[i]);
+    const double right = i == n - 1 ? b : 0.5 * (x[i] + x[i + 1]);
+    v[i] = right - left;
+  }
+  return v;
+}
+
+ParticleSet uniform_line(const Domain& domain, int n, double perturbation, std::uint64_t seed) {
+  if (domain.dim != 1) throw InputError("uniform_line needs a 1D domain");
+  if (n < 2)
+    throw InputError(fmt::format("--nodes must be at least 2 on a line, got {}", n));
+  if (perturbation < 0 || perturbation >= 0.5)
+    throw InputError(fmt::format(
+        "perturbation must be in [0, 0.5) of the spacing so particles keep their order, got {}",
+        perturbation));
+  const double a = domain.lower[0], b = domain.upper[0];
+  const double dx = (b - a) / (n - 1);
+  Eigen::VectorXd x(n);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-perturbation, perturbation);
+  for (int i = 0; i < n; ++i) {
+    x[i] = a + i * dx;
+    if (i > 0 && i < n - 1 && perturbation > 0) x[i] += u(rng) * dx;
+  }
+  ParticleSet p;
+  p.dim = 1;
+  p.x = x.transpose();
+  p.volume = voronoi_volumes_1d(x, a, b);
+  p.dilation = Eigen::VectorXd::Constant(n, dx);
+  p.spacing = dx;
+  return p;
+}
+
+}  // namespace mfv

@@ -1,0 +1,45 @@
+/// SVG plots drawn by gnuplot (found on PATH at run time), and the convergence plot of studies.
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "verify/case.hpp"
+
+namespace mfv {
+
+/// Whether an executable `gnuplot` is on PATH. Looked up afresh on every call, so a test
+/// or a user changing PATH is honoured.
+bool gnuplot_available();
+
+struct Series {
+  std::string label;
+  std::vector<double> x, y;  ///< same length
+};
+
+struct PlotSpec {
+  std::string title, xlabel, ylabel;
+  bool logx = false, logy = false;
+  std::vector<Series> series;
+  std::string style = "linespoints";  ///< or "lines"
+};
+
+/// Draws `spec` into `svg_path` (720×480, sans 11) with gnuplot; the SVG appears atomically,
+/// so a failed plot never replaces a good one. Points that are not finite, or not positive
+/// on a log axis, are dropped; series left empty are skipped. Text is printed literally
+/// (gnuplot's enhanced-text markup is off, so "u_h" is not a subscript).
+/// Returns std::nullopt on success, else a one-line reason for the report: "gnuplot not
+/// found: ...", "gnuplot failed: <its error message>", "nothing to plot: ...", or why a
+/// file next to `svg_path` could not be written. Never throws (except std::bad_alloc): a
+/// missing plot should not cost the rest of a report.
+std::optional<std::string> write_svg_plot(const std::filesystem::path& svg_path,
+                                          const PlotSpec& spec);
+
+/// A log–log plot of the error against h, one series per study, labelled
+/// "<study label> (rate 2.01)": the L2 error and rates.l2, or with `h1` the H1 seminorm
+/// error and rates.h1_semi. Errors are CaseResult::errors (the common fine rule).
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          bool h1);
+
+}  // namespace mfv

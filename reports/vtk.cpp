@@ -1,0 +1,168 @@
+#include "reports/vtk.hpp"
+
+#include <map>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkFieldData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include "reports/atomic.hpp"
+
+namespace mfv {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+vtkIdType to_id(Eigen::Index i) { return static_cast<vtkIdType>(i); }
+
+/// Points on the x axis: the cases are 1D, and ParaView still wants three coordinates.
+void set_points(vtkPolyData* pd, const Eigen::VectorXd& x) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(to_id(x.size()));
+  for (Eigen::Index i = 0; i < x.size(); ++i) points->SetPoint(to_id(i), x[i], 0.0, 0.0);
+  pd->SetPoints(points);
+}
+
+/// Adds `v` as point data `name` if it has one value per point; an empty vector (a field
+/// the case did not compute) is skipped, any other length is a caller's bug.
+void add_point_array(vtkPolyData* pd, const char* name, const Eigen::VectorXd& v,
+                     const fs::path& path) {
+  if (v.size() == 0) return;
+  if (to_id(v.size()) != pd->GetNumberOfPoints())
+    throw std::invalid_argument(fmt::format("cannot write '{}': field '{}' has {} values for {} points",
+                                            path.string(), name, v.size(),
+                                            pd->GetNumberOfPoints()));
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(1);
+  a->SetNumberOfTuples(to_id(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i) a->SetValue(to_id(i), v[i]);
+  pd->GetPointData()->AddArray(a);
+}
+
+/// The difference of two fields, or nothing if either is missing.
+Eigen::VectorXd difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  if (a.size() == 0 || b.size() == 0) return {};
+  if (a.size() != b.size()) return {};  // not reached: both were checked when added
+  return a - b;
+}
+
+/// Case-wide values, so a file opened on its own still says which resolution it shows.
+void add_field_data(vtkPolyData* pd, const CaseResult& r) {
+  vtkNew<vtkDoubleArray> h;
+  h->SetName("h");
+  h->InsertNextValue(r.h);
+  pd->GetFieldData()->AddArray(h);
+  vtkNew<vtkIntArray> nodes;
+  nodes->SetName("nodes");
+  nodes->InsertNextValue(r.spec.nodes);
+  pd->GetFieldData()->AddArray(nodes);
+}
+
+/// VTK insists on a file name of its own, so it writes a temporary file that is renamed
+/// over `path` only once Write() has succeeded.
+void write_polydata(const fs::path& path, vtkPolyData* pd) {
+  PendingFile temp(path);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetFileName(temp.path().c_str());
+  writer->SetInputData(pd);
+  writer->SetDataModeToAppended();
+  if (writer->Write() == 0)
+    throw std::runtime_error(
+        fmt::format("cannot write '{}': the VTK XML writer failed ({})", path.string(),
+                    vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode())));
+  temp.commit();
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_case_vtp(const fs::path& path, const CaseResult& r) {
+  const auto& f = r.fields;
+  vtkNew<vtkPolyData> pd;
+  set_points(pd, f.x);
+  vtkNew<vtkCellArray> verts;
+  for (Eigen::Index i = 0; i < f.x.size(); ++i) {
+    const vtkIdType id = to_id(i);
+    verts->InsertNextCell(1, &id);
+  }
+  pd->SetVerts(verts);
+  add_point_array(pd, "u_h", f.u_h, path);
+  add_point_array(pd, "u_exact", f.u_exact, path);
+  add_point_array(pd, "error", difference(f.u_h, f.u_exact), path);
+  add_point_array(pd, "du_h", f.du_h, path);
+  add_point_array(pd, "du_exact", f.du_exact, path);
+  add_point_array(pd, "du_error", difference(f.du_h, f.du_exact), path);
+  add_point_array(pd, "coefficient", f.coefficient, path);
+  add_point_array(pd, "volume", f.volume, path);
+  if (f.u_h.size() != 0) pd->GetPointData()->SetActiveScalars("u_h");
+  add_field_data(pd, r);
+  write_polydata(path, pd);
+}
+
+void write_line_vtp(const fs::path& path, const CaseResult& r) {
+  const auto& f = r.fields;
+  if (f.sx.size() < 2)
+    throw std::invalid_argument(fmt::format(
+        "cannot write '{}': the case has no dense sampling (sx has {} points)", path.string(),
+        f.sx.size()));
+  vtkNew<vtkPolyData> pd;
+  set_points(pd, f.sx);
+  std::vector<vtkIdType> ids(static_cast<std::size_t>(f.sx.size()));
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<vtkIdType>(i);
+  vtkNew<vtkCellArray> lines;
+  lines->InsertNextCell(to_id(f.sx.size()), ids.data());  // one polyline
+  pd->SetLines(lines);
+  add_point_array(pd, "u_h", f.su_h, path);
+  add_point_array(pd, "u_exact", f.su, path);
+  add_point_array(pd, "error", difference(f.su_h, f.su), path);
+  add_point_array(pd, "du_h", f.sdu_h, path);
+  add_point_array(pd, "du_exact", f.sdu, path);
+  add_point_array(pd, "du_error", difference(f.sdu_h, f.sdu), path);
+  if (f.su_h.size() != 0) pd->GetPointData()->SetActiveScalars("u_h");
+  add_field_data(pd, r);
+  write_polydata(path, pd);
+}
+
+void write_pvd(const fs::path& path, const std::vector<std::pair<double, std::string>>& entries) {
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <Collection>\n";
+  std::map<double, int> parts;  // next part number per timestep
+  for (const auto& [timestep, file] : entries) {
+    const int part = parts[timestep]++;
+    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
+                       timestep, part, xml_escape(file));
+  }
+  xml += "  </Collection>\n</VTKFile>\n";
+  write_file_atomic(path, xml);
+}
+
+}  // namespace mfv

@@ -1,0 +1,31 @@
+/// VTK XML files of a case's particles and sampled solution, and ParaView collections of them.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "verify/case.hpp"
+
+namespace mfv {
+
+/// One vertex per particle at (x, 0, 0) with point data "u_h", "u_exact", "error"
+/// (u_h - u_exact), "du_h", "du_exact", "du_error", "coefficient", "volume", and field
+/// data "h" and "nodes". A field left empty in `r.fields` is left out (its differences
+/// too); one of another length than x throws std::invalid_argument naming it.
+/// Written atomically (temporary file, then rename); throws std::runtime_error naming the
+/// path if VTK cannot write it.
+void write_case_vtp(const std::filesystem::path& path, const CaseResult& r);
+
+/// The dense sampling r.fields.sx as one polyline with point data "u_h", "u_exact", "error",
+/// "du_h", "du_exact", "du_error", and the same field data. Throws std::invalid_argument if
+/// there is no sampling (fewer than 2 points) or its arrays differ in length.
+void write_line_vtp(const std::filesystem::path& path, const CaseResult& r);
+
+/// A ParaView collection (.pvd) of (timestep, file) entries, file names relative to the
+/// .pvd's directory. Entries sharing a timestep become parts 0, 1, ... of it, so a
+/// particle file and a line file can be shown together. Written atomically.
+void write_pvd(const std::filesystem::path& path,
+               const std::vector<std::pair<double, std::string>>& entries);
+
+}  // namespace mfv

@@ -1,0 +1,87 @@
+/// Kernel conformance, run over every registered kernel: normalization against the declared
+/// integral, derivatives against finite differences, positivity and monotone decay.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "methods/integration/integration.hpp"
+#include "test_support.hpp"
+
+namespace mfv {
+namespace {
+
+class KernelConformance : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::unique_ptr<Kernel> kernel() const { return test_catalogue().kernels.create(GetParam()); }
+};
+
+/// ∫ over R^dim of W(|x|) by Gauss rules on many cells of [0, support].
+double radial_integral(const Kernel& k, int dim) {
+  const double rs = k.support();
+  const int cells = 400;
+  std::vector<double> x, w;
+  double sum = 0;
+  for (int c = 0; c < cells; ++c) {
+    gauss_legendre(8, rs * c / cells, rs * (c + 1) / cells, x, w);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double jac = dim == 1 ? 2.0 : dim == 2 ? 2 * M_PI * x[i] : 4 * M_PI * x[i] * x[i];
+      sum += w[i] * jac * k.value(x[i]);
+    }
+  }
+  return sum;
+}
+
+TEST_P(KernelConformance, IntegralMatchesDeclaredNormalization) {
+  const auto k = kernel();
+  for (int dim = 1; dim <= 3; ++dim)
+    EXPECT_NEAR(radial_integral(*k, dim), k->integral(dim), 1e-6 * k->integral(dim))
+        << "dimension " << dim;
+}
+
+TEST_P(KernelConformance, DerivativesMatchFiniteDifferences) {
+  const auto k = kernel();
+  const double rs = k->support();
+  for (double f : {0.07, 0.23, 0.31, 0.47, 0.61, 0.77, 0.89}) {
+    const double s = f * rs, e = 1e-6 * rs;
+    double w, dw, d2w, wp, wm, dwp, dwm, t;
+    k->evaluate({&s, 1}, {&w, 1}, {&dw, 1}, {&d2w, 1});
+    const double sp = s + e, sm = s - e;
+    k->evaluate({&sp, 1}, {&wp, 1}, {&dwp, 1}, {&t, 1});
+    k->evaluate({&sm, 1}, {&wm, 1}, {&dwm, 1}, {&t, 1});
+    const double scale = std::abs(k->value(0)) / rs;
+    EXPECT_NEAR(dw, (wp - wm) / (2 * e), 1e-6 * scale + 1e-6 * std::abs(dw)) << "s = " << s;
+    EXPECT_NEAR(d2w, (dwp - dwm) / (2 * e), 1e-5 * scale / rs + 1e-5 * std::abs(d2w))
+        << "s = " << s;
+  }
+}
+
+TEST_P(KernelConformance, PositiveAndDecreasingInsideSupport) {
+  const auto k = kernel();
+  double prev = k->value(0);
+  EXPECT_GT(prev, 0);
+  for (int i = 1; i < 200; ++i) {
+    const double w = k->value(k->support() * i / 200.0);
+    EXPECT_GE(w, 0);
+    EXPECT_LE(w, prev + 1e-15);
+    prev = w;
+  }
+  EXPECT_EQ(k->value(k->support() * 1.01), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllKernels, KernelConformance,
+                         ::testing::ValuesIn(test_catalogue().kernels.keys()));
+
+TEST(Kernels, NormalizedCubicSplineConstants) {
+  // 001 eq 15: C = 2/3, 10/(7π), 1/π make the spline integrate to one in 1, 2, 3 D.
+  for (int dim = 1; dim <= 3; ++dim) {
+    Params p;
+    p.set("dim", dim);
+    const auto k = test_catalogue().kernels.create("cubic-spline", p);
+    EXPECT_NEAR(k->integral(dim), 1.0, 1e-14);
+    EXPECT_NEAR(radial_integral(*k, dim), 1.0, 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace mfv

@@ -1,0 +1,155 @@
+/// Method-level checks: the linear patch test per method with its expected outcome, the
+/// Table 1 reading of 001 (gradient and internal force), boundary treatments, bad input.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "methods/core/errors.hpp"
+#include "test_support.hpp"
+#include "verify/runner.hpp"
+
+namespace mfv {
+namespace {
+
+/// -u'' = 0 on [0, 1] with u = 1 + 2x: any linearly consistent Galerkin method with accurate
+/// integration reproduces it (the patch test).
+class LinearPatch final : public Problem {
+ public:
+  Domain domain() const override { return Domain::interval(0, 1); }
+  void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const override {
+    u = (1 + 2 * x.row(0).array()).matrix().transpose();
+    du = Eigen::VectorXd::Constant(x.cols(), 2.0);
+  }
+  AssembledSystem assemble(const Discretization& d) const override {
+    AssembledSystem s = assemble_scalar_1d(d, {}, [](double) { return 0.0; });
+    s.constraint_points.resize(1, 2);
+    s.constraint_points << 0.0, 1.0;
+    s.constraint_values.resize(2);
+    s.constraint_values << 1.0, 3.0;
+    return s;
+  }
+  std::vector<int> resolutions(Level) const override { return {11}; }
+};
+
+void register_patch(ProblemRegistry& r) {
+  r.add("linear-patch", "patch test -u''=0, u=1+2x", {},
+        [](const Params&) { return std::make_unique<LinearPatch>(); });
+}
+
+const Catalogue& patch_catalogue() {
+  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {register_patch}});
+  return c;
+}
+
+struct PatchCase {
+  const char* method;
+  const char* params;
+  double perturbation;
+  bool passes;  ///< expected: reproduces u to 1e-8
+};
+
+class PatchTest : public ::testing::TestWithParam<PatchCase> {};
+
+TEST_P(PatchTest, ExpectedOutcome) {
+  const PatchCase& c = GetParam();
+  CaseSpec spec{"linear-patch", {}, c.method, Params::parse(c.params), 11, c.perturbation};
+  const CaseResult r = run_case(patch_catalogue(), spec);
+  if (c.passes) {
+    EXPECT_LT(r.errors.l2, 1e-8) << c.method << " " << c.params;
+    EXPECT_LT(r.errors.h1_semi, 1e-6) << c.method << " " << c.params;
+  } else {
+    EXPECT_GT(r.errors.l2, 1e-6) << c.method << " " << c.params << " was expected to fail";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Methods, PatchTest,
+    ::testing::Values(PatchCase{"fem", "", 0.0, true}, PatchCase{"fem", "", 0.3, true},
+                      PatchCase{"efg", "", 0.0, true}, PatchCase{"efg", "", 0.3, true},
+                      PatchCase{"efg", "bc=penalty", 0.3, true},
+                      PatchCase{"efg", "kernel=wendland", 0.3, true},
+                      PatchCase{"rkpm", "j=0", 0.0, true}, PatchCase{"rkpm", "j=0", 0.3, true},
+                      PatchCase{"wavelet", "j=0", 0.0, true},
+                      // Uncorrected SPH kernels do not even reproduce constants at the ends.
+                      PatchCase{"sph", "", 0.0, false}));
+
+TEST(Methods, GradientAndInternalForceAreTheWeakForm) {
+  // 001 Table 1: f_int = Σ_q w_q ∂N_I/∂x σ_q with σ = u' is exactly K u for the Laplacian.
+  const auto m = test_catalogue().methods.create("efg");
+  const Domain dom = Domain::interval(0, 1);
+  const Discretization d = m->discretize(dom, uniform_line(dom, 15, 0.2), 1);
+  Eigen::VectorXd u(15);
+  for (int i = 0; i < 15; ++i) u[i] = std::cos(2 * d.particles.x(0, i));
+  const Eigen::VectorXd f = d.internal_force(d.gradient(u));
+  const AssembledSystem s = assemble_scalar_1d(d, {}, [](double) { return 0.0; });
+  EXPECT_LT((f - s.K * u).norm(), 1e-12 * (1 + f.norm()));
+}
+
+TEST(BadInput, UnknownMethodListsValidNames) {
+  try {
+    test_catalogue().methods.create("efgg");
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("unknown method 'efgg'"), std::string::npos) << m;
+    EXPECT_NE(m.find("efg, fem, rkpm, sph, wavelet"), std::string::npos) << m;
+  }
+}
+
+TEST(BadInput, UnknownParameterListsValidOnes) {
+  try {
+    test_catalogue().methods.create("efg", Params::parse("dmx=2"));
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("unknown parameter 'dmx'"), std::string::npos) << m;
+    EXPECT_NE(m.find("dmax"), std::string::npos) << m;
+  }
+}
+
+TEST(BadInput, NonPositiveDilationIsRefused) {
+  for (const char* p : {"dmax=0", "dmax=-1"})
+    EXPECT_THROW(test_catalogue().methods.create("efg", Params::parse(p)), InputError) << p;
+  EXPECT_THROW(test_catalogue().methods.create("rkpm", Params::parse("rule=custom,scale=-2")),
+               InputError);
+}
+
+TEST(BadInput, WrongChoiceAndType) {
+  EXPECT_THROW(test_catalogue().methods.create("rkpm", Params::parse("kernel=gauss")), InputError);
+  EXPECT_THROW(test_catalogue().methods.create("efg", Params::parse("dmax=wide")), InputError);
+  EXPECT_THROW(Params::parse("dmax"), InputError);
+}
+
+TEST(BadInput, TooFewNodesForTheBasis) {
+  CaseSpec spec{"laplace-tanh", {}, "efg", {}, 2, 0};
+  try {
+    run_case(test_catalogue(), spec);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fewer than the basis needs"), std::string::npos)
+        << e.what();
+  }
+  spec.nodes = 1;
+  EXPECT_THROW(run_case(test_catalogue(), spec), InputError);
+}
+
+TEST(BadInput, SupportTooSmallIsASingularityNotNaN) {
+  CaseSpec spec{"laplace-tanh", {}, "efg", Params::parse("dmax=0.6"), 21, 0};
+  try {
+    run_case(test_catalogue(), spec);
+    FAIL();
+  } catch (const SingularError& e) {
+    EXPECT_NE(std::string(e.what()).find("the point"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BoundaryConditions, PenaltyApproachesLagrange) {
+  CaseSpec a{"laplace-tanh", {}, "efg", {}, 41, 0};
+  CaseSpec b{"laplace-tanh", {}, "efg", Params::parse("bc=penalty,penalty=1e9"), 41, 0};
+  const CaseResult ra = run_case(test_catalogue(), a), rb = run_case(test_catalogue(), b);
+  EXPECT_NEAR(ra.errors.l2, rb.errors.l2, 1e-6 * ra.errors.l2 + 1e-9);
+  EXPECT_NE(ra.solve.unknowns, rb.solve.unknowns);  // multipliers add two unknowns
+}
+
+}  // namespace
+}  // namespace mfv

@@ -1,0 +1,84 @@
+/// Results of one case (problem × method × resolution) and of a refinement study: what the
+/// runner computes and what reports, baselines and bands read.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "methods/core/params.hpp"
+
+namespace mfv {
+
+/// Error norms of u_h - u (004 II eq 7.2): absolute and relative to the exact solution's norm.
+struct ErrorNorms {
+  double l2 = 0, l2_rel = 0;            ///< ‖e‖_L2
+  double h1_semi = 0, h1_semi_rel = 0;  ///< ‖e'‖_L2 (the paper's "H1 norm")
+  double h1 = 0, h1_rel = 0;            ///< full H1: sqrt(‖e‖² + ‖e'‖²)
+};
+
+/// CPU seconds of the phases of one case.
+struct Timings {
+  double setup = 0;     ///< particles, neighbour search, quadrature, shape functions
+  double assembly = 0;  ///< stiffness and load
+  double solve = 0;     ///< boundary conditions and linear solve
+  double total() const { return setup + assembly + solve; }
+};
+
+struct SolveInfo {
+  std::string solver;     ///< e.g. "SparseLU"
+  int unknowns = 0;
+  long nonzeros = 0;      ///< of the system matrix
+  double residual = 0;    ///< ‖A x - b‖ / ‖b‖
+};
+
+/// What to run.
+struct CaseSpec {
+  std::string problem;
+  Params problem_params;
+  std::string method;
+  Params method_params;  ///< as given (unresolved); the resolved set is in CaseResult
+  int nodes = 0;
+  double perturbation = 0;  ///< random particle offsets, fraction of the spacing
+};
+
+/// Sampled fields for VTK files and plots.
+struct CaseFields {
+  Eigen::VectorXd x;              ///< particle positions (1D)
+  Eigen::VectorXd u_h, u_exact;   ///< at the particles: u_h(x_J) (not the coefficient)
+  Eigen::VectorXd du_h, du_exact;
+  Eigen::VectorXd coefficient;    ///< the solved particle coefficients u_J
+  Eigen::VectorXd volume;         ///< particle volumes
+  Eigen::VectorXd sx, su_h, su, sdu_h, sdu;  ///< a dense sampling of the line
+};
+
+struct CaseResult {
+  CaseSpec spec;
+  Params method_params;            ///< resolved, with defaults
+  std::string method_description;  ///< human-readable composition
+  double h = 0;                    ///< nominal spacing Δx
+  int particles = 0, quadrature_points = 0, cells = 0;
+  ErrorNorms errors;               ///< on a common fine Gauss rule, independent of the method
+  ErrorNorms errors_paper;         ///< on the paper's rule (Gauss points per cell between nodes)
+  std::map<std::string, double> headline;
+  Timings cpu;
+  SolveInfo solve;
+  CaseFields fields;
+};
+
+/// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the
+/// slope between each pair of successive resolutions.
+struct Rates {
+  double l2 = 0, h1_semi = 0;
+  std::vector<double> l2_pairwise, h1_semi_pairwise;
+};
+
+struct StudyResult {
+  std::string label;               ///< "rkpm kernel=gaussian,j=1"
+  std::vector<CaseResult> cases;   ///< increasing resolution
+  Rates rates;                     ///< on the common rule
+  Rates rates_paper;               ///< on the paper's rule
+};
+
+}  // namespace mfv

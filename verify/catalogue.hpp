@@ -1,0 +1,49 @@
+/// The catalogue: every registry (kernels, approximations, integration schemes, methods,
+/// problems) as one object, filled by the explicit register_all lists at construction.
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "methods/methods/register.hpp"
+#include "problems/problem.hpp"
+
+namespace mfv {
+
+class Catalogue;
+
+/// Out-of-tree plugins (tests, user code): each hook runs right after the built-in list of
+/// its kind, so a kernel added here is a valid `kernel=` choice of every method.
+struct Extensions {
+  std::vector<std::function<void(KernelRegistry&)>> kernels;
+  std::vector<std::function<void(ApproximationRegistry&, const KernelRegistry&)>> approximations;
+  std::vector<std::function<void(MethodRegistry&, const MethodParts&)>> methods;
+  std::vector<std::function<void(ProblemRegistry&)>> problems;
+};
+
+class Catalogue {
+ public:
+  explicit Catalogue(const Extensions& extra = {}) {
+    register_all_kernels(kernels);
+    for (const auto& f : extra.kernels) f(kernels);
+    register_all_approximations(approximations, kernels);
+    for (const auto& f : extra.approximations) f(approximations, kernels);
+    register_all_integrations(integrations);
+    register_all_methods(methods, parts());
+    for (const auto& f : extra.methods) f(methods, parts());
+    register_all_problems(problems);
+    for (const auto& f : extra.problems) f(problems);
+  }
+  // Factories hold references into this object, so it stays where it was built.
+  Catalogue(const Catalogue&) = delete;
+  Catalogue& operator=(const Catalogue&) = delete;
+
+  MethodParts parts() const { return MethodParts{kernels, approximations, integrations}; }
+
+  KernelRegistry kernels{"kernel"};
+  ApproximationRegistry approximations{"approximation"};
+  IntegrationRegistry integrations{"integration scheme"};
+  MethodRegistry methods{"method"};
+  ProblemRegistry problems{"problem"};
+};
+
+}  // namespace mfv

@@ -1,0 +1,447 @@
+#include "verify/manifest.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "methods/core/errors.hpp"
+
+namespace mfv {
+
+namespace detail {
+
+std::string read_text_file(const std::filesystem::path& path, const std::string& what,
+                           const std::string& hint) {
+  // stdio rather than iostreams: we want errno for the message ("No such file or directory").
+  auto fail = [&](int err) {
+    return InputError(
+        fmt::format("cannot read {} {}: {}; {}", what, path.string(), std::strerror(err), hint));
+  };
+  errno = 0;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw fail(errno ? errno : ENOENT);
+  std::string text;
+  char buffer[8192];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, f.get())) > 0) text.append(buffer, n);
+  if (std::ferror(f.get())) throw fail(errno ? errno : EIO);
+  return text;
+}
+
+}  // namespace detail
+
+namespace {
+
+constexpr const char* kSyntaxHint = "fix the TOML syntax (see suites/example.toml)";
+
+/// Builds "<file>:<line>: <what>; <fix>" errors for one manifest.
+class Reporter {
+ public:
+  explicit Reporter(std::string file) : file_(std::move(file)) {}
+  const std::string& file() const { return file_; }
+
+  [[noreturn]] void fail(int line, const std::string& what, const std::string& fix) const {
+    throw InputError(fmt::format("{}:{}: {}; {}", file_, line, what, fix));
+  }
+
+ private:
+  std::string file_;
+};
+
+int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
+int line_of(const toml::key& k) { return static_cast<int>(k.source().begin.line); }
+
+std::string type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// Refuses keys outside `valid`, naming the closest valid key when it looks like a typo.
+void check_keys(const Reporter& r, const toml::table& t, const std::vector<std::string>& valid,
+                const std::string& where) {
+  for (const auto& [key, value] : t) {
+    const std::string k(key.str());
+    if (std::find(valid.begin(), valid.end(), k) != valid.end()) continue;
+    std::string fix = fmt::format("valid keys: {}", fmt::join(valid, ", "));
+    const auto closest = std::min_element(valid.begin(), valid.end(), [&](auto& a, auto& b) {
+      return edit_distance(k, a) < edit_distance(k, b);
+    });
+    if (closest != valid.end() && edit_distance(k, *closest) <= 2)
+      fix = fmt::format("did you mean '{}'? {}", *closest, fix);
+    const int line = line_of(key) > 0 ? line_of(key) : line_of(value);
+    r.fail(line, fmt::format("unknown key '{}' in {}", k, where), fix);
+  }
+}
+
+std::optional<double> number_of(const toml::node& n) {
+  if (auto i = n.as_integer()) return static_cast<double>(i->get());
+  if (auto f = n.as_floating_point()) return f->get();
+  return std::nullopt;
+}
+
+std::string get_string(const Reporter& r, const toml::node& n, const std::string& key,
+                       bool allow_empty = false) {
+  const auto* s = n.as_string();
+  if (!s)
+    r.fail(line_of(n), fmt::format("'{}' must be a string, got {}", key, type_name(n)),
+           fmt::format("write {} = \"...\"", key));
+  if (!allow_empty && s->get().empty())
+    r.fail(line_of(n), fmt::format("'{}' is empty", key), "give it a non-empty value");
+  return s->get();
+}
+
+double get_number(const Reporter& r, const toml::node& n, const std::string& key) {
+  const auto v = number_of(n);
+  if (!v)
+    r.fail(line_of(n), fmt::format("'{}' must be a number, got {}", key, type_name(n)),
+           fmt::format("write e.g. {} = 0.05", key));
+  if (!std::isfinite(*v))
+    r.fail(line_of(n), fmt::format("'{}' must be finite, got {}", key, *v),
+           "give a finite number");
+  return *v;
+}
+
+const toml::node& require(const Reporter& r, const toml::table& t, const std::string& key,
+                          const std::string& where, const std::string& example) {
+  const toml::node* n = t.get(key);
+  if (!n)
+    r.fail(line_of(t), fmt::format("{} has no '{}'", where, key),
+           fmt::format("add the required key, e.g. {}", example));
+  return *n;
+}
+
+Params get_params(const Reporter& r, const toml::node& n, const std::string& key) {
+  const auto* t = n.as_table();
+  if (!t)
+    r.fail(line_of(n), fmt::format("'{}' must be a table, got {}", key, type_name(n)),
+           fmt::format("write {} = {{ name = value, ... }}", key));
+  Params p;
+  for (const auto& [k, v] : *t) {
+    const std::string name(k.str());
+    if (auto d = number_of(v)) {
+      p.set(name, *d);
+    } else if (auto s = v.as_string()) {
+      p.set(name, ParamValue{s->get()});
+    } else if (auto b = v.as_boolean()) {
+      p.set(name, b->get() ? "true" : "false");
+    } else {
+      r.fail(line_of(v),
+             fmt::format("parameter '{}' in '{}' is {}", name, key, type_name(v)),
+             "parameter values must be numbers, strings or booleans");
+    }
+  }
+  return p;
+}
+
+std::vector<int> get_nodes(const Reporter& r, const toml::node& n, const std::string& key) {
+  const std::string fix = fmt::format("write {} = [21, 41, 81] (increasing integers >= 2)", key);
+  const auto* a = n.as_array();
+  if (!a) r.fail(line_of(n), fmt::format("'{}' must be an array, got {}", key, type_name(n)), fix);
+  if (a->empty()) r.fail(line_of(n), fmt::format("'{}' is empty", key), fix);
+  std::vector<int> out;
+  for (const auto& e : *a) {
+    const int line = line_of(e) > 0 ? line_of(e) : line_of(n);
+    const auto* i = e.as_integer();
+    if (!i) r.fail(line, fmt::format("'{}' must hold integers, got {}", key, type_name(e)), fix);
+    const auto v = i->get();
+    // Fewer than 2 particles cannot span the domain: there is no spacing h.
+    if (v < 2 || v > std::numeric_limits<int>::max())
+      r.fail(line, fmt::format("'{}' holds {}, not a node count >= 2", key, v), fix);
+    // The last entry is taken as the finest resolution for the _finest bands.
+    if (!out.empty() && v <= out.back())
+      r.fail(line, fmt::format("'{}' is not increasing ({} after {})", key, v, out.back()), fix);
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+Band get_band(const Reporter& r, const toml::node& n, const std::string& name) {
+  const std::string fix =
+      fmt::format("write the band as a two-number array [low, high], e.g. {} = [1.9, 2.1]", name);
+  const auto* a = n.as_array();
+  if (!a)
+    r.fail(line_of(n), fmt::format("band '{}' must be an array, got {}", name, type_name(n)), fix);
+  if (a->size() != 2)
+    r.fail(line_of(n), fmt::format("band '{}' has {} elements, not 2", name, a->size()), fix);
+  const auto low = number_of(*a->get(0)), high = number_of(*a->get(1));
+  if (!low || !high)
+    r.fail(line_of(n), fmt::format("band '{}' must hold two numbers", name), fix);
+  if (std::isnan(*low) || std::isnan(*high))
+    r.fail(line_of(n), fmt::format("band '{}' holds nan", name),
+           "use inf or -inf for a one-sided band");
+  if (*low > *high)
+    r.fail(line_of(n), fmt::format("band '{}' has low {} > high {}", name, *low, *high),
+           fmt::format("swap them: {} = [{}, {}]", name, *high, *low));
+  return Band{*low, *high, line_of(n)};
+}
+
+bool has_whitespace(const std::string& s) {
+  return std::any_of(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c) != 0; });
+}
+
+ManifestCase parse_case(const Reporter& r, const toml::table& t) {
+  static const std::vector<std::string> kKeys = {
+      "id",    "problem",    "problem_params", "method", "method_params", "nodes",
+      "full_nodes", "perturbation", "labels", "bands"};
+  ManifestCase c;
+  c.line = line_of(t);
+  c.id = get_string(r, require(r, t, "id", "[[case]]", "id = \"laplace-tanh/fem\""), "id");
+  const std::string where = fmt::format("[[case]] '{}'", c.id);
+  if (has_whitespace(c.id))
+    r.fail(line_of(*t.get("id")), fmt::format("case id '{}' contains white space", c.id),
+           "ids are CTest names: use e.g. '-', '_' or '/' instead");
+  check_keys(r, t, kKeys, where);
+  c.problem = get_string(r, require(r, t, "problem", where, "problem = \"laplace-tanh\""),
+                         "problem");
+  c.method = get_string(r, require(r, t, "method", where, "method = \"fem\""), "method");
+  c.nodes = get_nodes(r, require(r, t, "nodes", where, "nodes = [21, 41, 81]"), "nodes");
+  c.full_nodes = t.get("full_nodes") ? get_nodes(r, *t.get("full_nodes"), "full_nodes") : c.nodes;
+  if (auto n = t.get("problem_params")) c.problem_params = get_params(r, *n, "problem_params");
+  if (auto n = t.get("method_params")) c.method_params = get_params(r, *n, "method_params");
+  if (auto n = t.get("perturbation")) {
+    c.perturbation = get_number(r, *n, "perturbation");
+    if (c.perturbation < 0)
+      r.fail(line_of(*n), fmt::format("perturbation {} is negative", c.perturbation),
+             "give a fraction of the particle spacing >= 0");
+  }
+  if (auto n = t.get("labels")) {
+    const auto* a = n->as_array();
+    if (!a)
+      r.fail(line_of(*n), fmt::format("'labels' must be an array, got {}", type_name(*n)),
+             "write labels = [\"fast\"]");
+    for (const auto& e : *a) c.labels.push_back(get_string(r, e, "labels"));
+  }
+  if (auto n = t.get("bands")) {
+    const auto* b = n->as_table();
+    if (!b)
+      r.fail(line_of(*n), fmt::format("'bands' must be a table, got {}", type_name(*n)),
+             "write the bands under a [case.bands] header");
+    std::vector<std::string> valid = band_metrics();
+    valid.push_back("headline");
+    check_keys(r, *b, valid, fmt::format("[case.bands] of '{}'", c.id));
+    for (const auto& metric : band_metrics())
+      if (auto v = b->get(metric)) c.bands[metric] = get_band(r, *v, metric);
+    if (auto h = b->get("headline")) {
+      const auto* ht = h->as_table();
+      if (!ht)
+        r.fail(line_of(*h), fmt::format("'headline' must be a table, got {}", type_name(*h)),
+               "write headline = { \"<headline name>\" = [low, high] }");
+      for (const auto& [k, v] : *ht) c.headline_bands[std::string(k.str())] =
+          get_band(r, v, fmt::format("headline '{}'", k.str()));
+    }
+    // A rate is a slope: it needs two resolutions in every mode the case can run in.
+    const bool has_rate = c.bands.count("l2_rate") || c.bands.count("h1_rate");
+    if (has_rate && std::min(c.nodes.size(), c.full_nodes.size()) < 2)
+      r.fail(c.line, fmt::format("case '{}' has a rate band but fewer than 2 resolutions", c.id),
+             "list at least two resolutions in nodes (and full_nodes)");
+  }
+  return c;
+}
+
+void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
+  static const std::vector<std::string> kKeys = {"name", "description", "baseline",
+                                                 "drift_tolerance", "drift_floor"};
+  const auto* t = n.as_table();
+  if (!t)
+    r.fail(line_of(n), fmt::format("'suite' must be a table, got {}", type_name(n)),
+           "write the suite settings under a [suite] header");
+  check_keys(r, *t, kKeys, "[suite]");
+  if (auto v = t->get("name")) m.name = get_string(r, *v, "name");
+  if (auto v = t->get("description")) m.description = get_string(r, *v, "description", true);
+  if (auto v = t->get("baseline")) {
+    const std::filesystem::path b = get_string(r, *v, "baseline");
+    m.baseline = b.is_absolute() ? b : m.path.parent_path() / b;
+  }
+  if (auto v = t->get("drift_tolerance")) {
+    m.drift_tolerance = get_number(r, *v, "drift_tolerance");
+    if (m.drift_tolerance <= 0)
+      r.fail(line_of(*v), fmt::format("drift_tolerance {} is not positive", m.drift_tolerance),
+             "give a relative tolerance > 0, e.g. drift_tolerance = 0.05 for 5%");
+  }
+  if (auto v = t->get("drift_floor")) {
+    m.drift_floor = get_number(r, *v, "drift_floor");
+    if (m.drift_floor < 0)
+      r.fail(line_of(*v), fmt::format("drift_floor {} is negative", m.drift_floor),
+             "give an absolute error floor >= 0, e.g. drift_floor = 1e-12");
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& band_metrics() {
+  static const std::vector<std::string> kMetrics = {"l2_rate",   "h1_rate",       "l2_finest",
+                                                    "h1_finest", "l2_rel_finest", "h1_rel_finest"};
+  return kMetrics;
+}
+
+const ManifestCase& Manifest::find(const std::string& id) const {
+  for (const auto& c : cases)
+    if (c.id == id) return c;
+  std::vector<std::string> ids;
+  for (const auto& c : cases) ids.push_back(c.id);
+  throw InputError(fmt::format("no case '{}' in manifest {}; valid ids: {}", id, path.string(),
+                               fmt::join(ids, ", ")));
+}
+
+Manifest load_manifest(const std::filesystem::path& path) {
+  const Reporter r(path.string());
+  const std::string text =
+      detail::read_text_file(path, "manifest", "check the path (e.g. suites/default.toml)");
+  toml::table root;
+  try {
+    root = toml::parse(text, path.string());
+  } catch (const toml::parse_error& e) {
+    r.fail(static_cast<int>(e.source().begin.line), std::string(e.description()), kSyntaxHint);
+  }
+
+  Manifest m;
+  m.path = path;
+  m.name = path.stem().string();
+  check_keys(r, root, {"suite", "case"}, "the manifest's top level");
+  if (auto s = root.get("suite")) parse_suite(r, *s, m);
+
+  const toml::node* cases = root.get("case");
+  if (!cases)
+    r.fail(1, "the manifest has no [[case]] entries", "add at least one [[case]] table");
+  const auto* list = cases->as_array();
+  if (!list || !list->is_array_of_tables())
+    r.fail(line_of(*cases), "'case' must be an array of tables",
+           "start each case with a [[case]] header (double brackets)");
+  std::map<std::string, int> seen;
+  for (const auto& node : *list) {
+    ManifestCase c = parse_case(r, *node.as_table());
+    if (auto it = seen.find(c.id); it != seen.end())
+      r.fail(c.line, fmt::format("duplicate case id '{}' (first defined at line {})", c.id,
+                                 it->second),
+             "give every case a unique id");
+    seen[c.id] = c.line;
+    m.cases.push_back(std::move(c));
+  }
+  return m;
+}
+
+std::vector<int> resolutions(const ManifestCase& c, bool full) {
+  return full ? c.full_nodes : c.nodes;
+}
+
+namespace {
+
+/// The value with 4 significant digits, or as many more as it takes for the printed value to
+/// be visibly outside the band (1.9 printed for 1.89996 would contradict the message).
+std::string show_outside(double v, const Band& b) {
+  for (int digits = 4; digits < 17; ++digits) {
+    const std::string s = fmt::format("{:.{}g}", v, digits);
+    const double shown = std::strtod(s.c_str(), nullptr);
+    if (!(shown >= b.low && shown <= b.high)) return s;
+  }
+  return fmt::format("{:.17g}", v);
+}
+
+std::string show_band(const Band& b) { return fmt::format("[{}, {}]", b.low, b.high); }
+
+}  // namespace
+
+std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult& s,
+                                       const std::string& manifest_file) {
+  std::vector<BandViolation> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const CaseResult* finest = s.cases.empty() ? nullptr : &s.cases.back();
+  auto where = [&](const Band& b) { return fmt::format("({}:{})", manifest_file, b.line); };
+
+  auto check = [&](const std::string& metric, const std::string& shown_name, double value,
+                   const Band& band, const std::string& why_nan) {
+    if (value >= band.low && value <= band.high) return;  // false for NaN
+    std::string msg;
+    if (std::isnan(value))
+      msg = fmt::format("{}: {} is not a number ({}), so it cannot be inside the band {} {}",
+                        c.id, shown_name, why_nan, show_band(band), where(band));
+    else
+      msg = fmt::format("{}: {} = {} is outside the band {} {}", c.id, shown_name,
+                        show_outside(value, band), show_band(band), where(band));
+    out.push_back(BandViolation{c.id, metric, value, band, std::move(msg)});
+  };
+
+  for (const auto& metric : band_metrics()) {
+    const auto it = c.bands.find(metric);
+    if (it == c.bands.end()) continue;
+    double value = nan;
+    std::string why = "the run produced NaN";
+    if (metric == "l2_rate" || metric == "h1_rate") {
+      if (s.cases.size() < 2)
+        why = fmt::format("a rate needs at least 2 resolutions, the study has {}", s.cases.size());
+      else
+        value = metric == "l2_rate" ? s.rates.l2 : s.rates.h1_semi;
+    } else if (!finest) {
+      why = "the study has no resolutions";
+    } else {
+      const ErrorNorms& e = finest->errors;
+      if (metric == "l2_finest") value = e.l2;
+      else if (metric == "h1_finest") value = e.h1_semi;
+      else if (metric == "l2_rel_finest") value = e.l2_rel;
+      else if (metric == "h1_rel_finest") value = e.h1_semi_rel;
+    }
+    check(metric, metric, value, it->second, why);
+  }
+
+  for (const auto& [name, band] : c.headline_bands) {
+    const std::string metric = "headline:" + name;
+    const std::string shown = fmt::format("headline '{}'", name);
+    if (!finest) {
+      check(metric, shown, nan, band, "the study has no resolutions");
+      continue;
+    }
+    const auto it = finest->headline.find(name);
+    if (it == finest->headline.end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, v] : finest->headline) names.push_back("'" + n + "'");
+      const std::string available =
+          names.empty() ? "the problem computes no headline quantities"
+                        : fmt::format("the problem computes {}", fmt::join(names, ", "));
+      out.push_back(BandViolation{
+          c.id, metric, nan, band,
+          fmt::format("{}: {} was not computed; {}; fix the name in the manifest {}", c.id, shown,
+                      available, where(band))});
+      continue;
+    }
+    check(metric, shown, it->second, band, "the run produced NaN");
+  }
+  return out;
+}
+
+}  // namespace mfv

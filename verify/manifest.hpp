@@ -1,0 +1,105 @@
+/// The verification manifest: the checked-in TOML list of cases and their expected bands.
+#pragma once
+// Format (suites/example.toml is a complete example):
+//
+//   [suite]                                   # optional table
+//   name = "default"                          # default: the manifest's file name without .toml
+//   description = "nightly 1D verification"
+//   baseline = "../reports/baseline/default.toml"  # relative to the manifest's directory;
+//                                             # omitted: no baseline, no drift checks
+//   drift_tolerance = 0.05                    # relative; > 0; a number that moves more is flagged
+//   drift_floor = 1e-12                       # absolute, >= 0: errors below it are round-off
+//
+//   [[case]]                                  # one per case, at least one
+//   id = "laplace-tanh/fem"                   # required, unique, no white space (a CTest name)
+//   problem = "laplace-tanh"                  # required
+//   problem_params = { s = 10 }               # optional
+//   method = "fem"                            # required
+//   method_params = { quad = 10 }             # optional
+//   nodes = [21, 41, 81, 161]                 # required: increasing integers >= 2
+//   full_nodes = [21, 41, 81, 161, 241]       # optional, used with --full (default: nodes)
+//   perturbation = 0.0                        # optional, >= 0
+//   labels = ["fast"]                         # optional extra CTest labels
+//   [case.bands]                              # optional; each band is [low, high], low <= high
+//   l2_rate = [1.9, 2.1]                      # least-squares rates over the resolutions
+//   h1_rate = [0.9, 1.1]
+//   l2_finest = [0.0, 2e-3]                   # errors at the finest (last) resolution
+//   h1_finest = [0.0, 0.3]
+//   l2_rel_finest = [0.0, 1e-2]
+//   h1_rel_finest = [0.0, 1e-1]
+//   headline = { "peak du/dx at x=3" = [9.7, 9.9] }  # problem headline quantities, finest
+//
+// Unknown keys anywhere are errors rather than being ignored, so that a typo such as
+// `l2_rte` cannot silently drop a check. Parameter values: integers and floats become numbers,
+// strings stay text, booleans become the text "true"/"false". A band bound may be `inf` or
+// `-inf` for a one-sided band. "h1" means the H1 seminorm ‖e'‖ throughout, as in the paper.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "methods/core/params.hpp"
+#include "verify/case.hpp"
+
+namespace mfv {
+
+/// An admissible interval [low, high]; `line` is where it is written in the manifest so
+/// that a violation can point at the number to edit.
+struct Band {
+  double low = 0, high = 0;
+  int line = 0;
+};
+
+struct ManifestCase {
+  std::string id, problem, method;
+  Params problem_params, method_params;
+  std::vector<int> nodes, full_nodes;
+  double perturbation = 0;
+  std::vector<std::string> labels;
+  std::map<std::string, Band> bands;           ///< keyed by a name from band_metrics()
+  std::map<std::string, Band> headline_bands;  ///< keyed by the problem's headline name
+  int line = 0;                                ///< line of the case's [[case]] header
+};
+
+struct Manifest {
+  std::filesystem::path path;      ///< as given to load_manifest (used in messages)
+  std::string name, description;
+  std::filesystem::path baseline;  ///< resolved against the manifest's directory; empty: none
+  double drift_tolerance = 0.05, drift_floor = 1e-12;
+  std::vector<ManifestCase> cases;  ///< in file order
+
+  /// The case with this id; throws InputError listing the valid ids.
+  const ManifestCase& find(const std::string& id) const;
+};
+
+/// The band metric names accepted in [case.bands] (besides `headline`), in report order.
+const std::vector<std::string>& band_metrics();
+
+/// Reads and checks a manifest. Throws InputError "<file>:<line>: <what>; <how to fix>".
+Manifest load_manifest(const std::filesystem::path& path);
+
+/// The resolutions to run: full_nodes with --full, nodes otherwise.
+std::vector<int> resolutions(const ManifestCase& c, bool full);
+
+struct BandViolation {
+  std::string case_id;
+  std::string metric;  ///< a band_metrics() name or "headline:<name>"
+  double value = 0;    ///< NaN when the quantity is missing or undefined
+  Band band;
+  std::string message;  ///< one sentence naming case, metric, value, band and manifest line
+};
+
+/// Every band of `c` that the study misses. Rates come from s.rates (common rule), the
+/// _finest metrics and headlines from the last case of `s`. NaN always violates.
+/// `manifest_file` is the name printed with the band's line.
+std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult& s,
+                                       const std::string& manifest_file);
+
+namespace detail {
+/// The whole content of a text file; throws InputError "cannot read <what> <path>: <errno
+/// text>; <hint>". Shared by the manifest and baseline readers.
+std::string read_text_file(const std::filesystem::path& path, const std::string& what,
+                           const std::string& hint);
+}  // namespace detail
+
+}  // namespace mfv

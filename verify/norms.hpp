@@ -1,0 +1,29 @@
+/// Error norms (004 II eq 7.2) on quadrature independent of the method, and convergence rates
+/// as least-squares slopes of ln(error) against ln(h) (004 II eq 7.3).
+#pragma once
+#include <vector>
+
+#include "methods/methods/method.hpp"
+#include "problems/problem.hpp"
+#include "verify/case.hpp"
+
+namespace mfv {
+
+/// The common rule: uniform cells (at least 1200, four per particle interval) with 6 Gauss
+/// points each, the same for every method at a given resolution.
+IntegrationRule common_error_rule(const Domain& domain, int nodes);
+/// The paper's rule: `points` Gauss points in every interval between neighbouring particles.
+IntegrationRule paper_error_rule(const Domain& domain, const ParticleSet& particles, int points);
+
+ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
+                       const IntegrationRule& rule);
+
+/// Least-squares slope of ln e against ln h (GSL gsl_fit_linear); NaN with fewer than two
+/// usable (positive, finite) points.
+double fitted_rate(const std::vector<double>& h, const std::vector<double>& e);
+/// Slopes between successive pairs.
+std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vector<double>& e);
+/// Rates of a study from its cases (common or paper rule).
+Rates study_rates(const std::vector<CaseResult>& cases, bool paper_rule);
+
+}  // namespace mfv
