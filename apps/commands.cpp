@@ -1,8 +1,23 @@
 #include "apps/commands.hpp"
 
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <set>
+#include <thread>
+
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "methods/core/errors.hpp"
+#include "reports/atomic.hpp"
+#include "reports/markdown.hpp"
+#include "reports/study_report.hpp"
+#include "verify/baseline.hpp"
+#include "verify/manifest.hpp"
 #include "verify/runner.hpp"
 
 namespace mfv {
@@ -23,6 +38,68 @@ void list_registry(const R& r, std::ostream& out) {
                          p.description);
     }
   }
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return buf;
+}
+
+unsigned cores() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 1 : n;
+}
+
+double wall_seconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+/// One line per study: rates on the common rule and the finest errors.
+void print_rate_table(const std::vector<StudyResult>& studies, std::ostream& out) {
+  MarkdownTable t({"method", "nodes", "L2 rel (finest)", "H1 rel (finest)", "L2 rate", "H1 rate",
+                   "CPU s"},
+                  {'l', 'l', 'r', 'r', 'r', 'r', 'r'});
+  for (const auto& s : studies) {
+    std::vector<std::string> nodes;
+    double cpu = 0;
+    for (const auto& r : s.cases) {
+      nodes.push_back(std::to_string(r.spec.nodes));
+      cpu += r.cpu.total();
+    }
+    const CaseResult& f = s.cases.back();
+    t.add_row({s.label, fmt::format("{}", fmt::join(nodes, ",")), fmt_sci(f.errors.l2_rel),
+               fmt_sci(f.errors.h1_semi_rel), fmt_rate(s.rates.l2), fmt_rate(s.rates.h1_semi),
+               fmt::format("{:.3f}", cpu)});
+  }
+  out << t.str();
+}
+
+/// Report header lines shared by compare and verify.
+std::string machine_line(double wall, double cpu) {
+  return fmt::format("Run {}, {} cores, wall {}, CPU {}.", utc_now(), cores(),
+                     fmt_seconds(wall), fmt_seconds(cpu));
+}
+
+/// Writes index.md and the sections into a staging directory and swaps it in for `dir`.
+void write_report(const Catalogue& c, const std::filesystem::path& dir, const std::string& head,
+                  const std::vector<ReportSection>& sections, bool vtk) {
+  StagedDirectory staged(dir);
+  std::string md = head;
+  for (const auto& s : sections) md += write_problem_section(c, s, staged.path(), vtk);
+  write_file_atomic(staged.path() / "index.md", md);
+  staged.commit();
+}
+
+StudyProgress progress_printer(std::ostream& progress, const std::string& prefix) {
+  return [&progress, prefix](int i, int n, int nodes) {
+    progress << fmt::format("{} resolution {}/{}: {} nodes\n", prefix, i + 1, n, nodes)
+             << std::flush;
+  };
 }
 
 }  // namespace
@@ -58,6 +135,276 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
                      r.cpu.assembly, r.cpu.solve);
   out << fmt::format("solver    {}: {} unknowns, {} nonzeros, residual {:.1e}\n", r.solve.solver,
                      r.solve.unknowns, r.solve.nonzeros, r.solve.residual);
+}
+
+std::pair<std::string, std::string> split_method_spec(const std::string& spec) {
+  const auto colon = spec.find(':');
+  std::string name = spec.substr(0, colon);
+  std::string params = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  if (name.empty())
+    throw InputError(fmt::format("method '{}' has no name; write name or name:key=value,...",
+                                 spec));
+  return {name, params};
+}
+
+int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& out,
+                    std::ostream& progress) {
+  if (o.methods.empty())
+    throw InputError("no method given; name one or more with --method (see mfv list)");
+  CaseSpec base;
+  base.problem = o.problem;
+  base.problem_params = Params::parse(o.problem_params);
+  base.perturbation = o.perturbation;
+  const auto problem = c.problems.create(base.problem, base.problem_params);
+  std::vector<int> nodes = o.nodes;
+  if (nodes.empty()) nodes = problem->resolutions(o.full ? Level::full : Level::standard);
+  for (int n : nodes)
+    if (n < 2) throw InputError(fmt::format("--nodes {} is too few; give at least 2", n));
+
+  // Check every name and parameter before the first (possibly long) study runs.
+  std::vector<CaseSpec> specs;
+  for (const auto& m : o.methods) {
+    CaseSpec s = base;
+    auto [name, params] = split_method_spec(m);
+    s.method = name;
+    s.method_params = Params::parse(params);
+    c.methods.resolve(s.method, s.method_params);
+    specs.push_back(s);
+  }
+
+  const double w0 = wall_seconds(), c0 = cpu_seconds();
+  std::vector<ReportSection> sections;
+  std::vector<StudyResult> done;
+  std::vector<std::string> failures;
+  for (std::size_t k = 0; k < specs.size(); ++k) {
+    const std::string label = study_label(specs[k]);
+    try {
+      StudyResult s = run_study(
+          c, specs[k], nodes,
+          progress_printer(progress, fmt::format("[{}/{}] {}:", k + 1, specs.size(), label)));
+      done.push_back(s);
+      add_to_sections(sections, std::move(s));
+    } catch (const SingularError& e) {
+      failures.push_back(fmt::format("{}: {}", label, e.what()));
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, specs.size(), label,
+                              e.what());
+    }
+  }
+  if (!done.empty()) print_rate_table(done, out);
+  for (const auto& f : failures) out << "could not run: " << f << "\n";
+
+  if (!o.report.empty()) {
+    if (sections.empty()) {
+      ReportSection empty;
+      empty.problem = base.problem;
+      empty.problem_params = base.problem_params;
+      sections.push_back(empty);
+    }
+    sections.front().failures = failures;
+    std::string head = fmt::format("# mfv comparison: {}\n\n{}\n\n", o.problem,
+                                   machine_line(wall_seconds() - w0, cpu_seconds() - c0));
+    if (sections.front().studies.empty()) {
+      head += "No study could run; see the failures below.\n\n";
+      for (const auto& f : failures) head += fmt::format("- {}\n", f);
+      StagedDirectory staged(o.report);
+      write_file_atomic(staged.path() / "index.md", head);
+      staged.commit();
+    } else {
+      write_report(c, o.report, head, sections, o.vtk);
+    }
+    out << fmt::format("report: {}/index.md\n", o.report);
+  }
+  return failures.empty() ? 0 : 3;
+}
+
+int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out,
+                   std::ostream& progress) {
+  const Manifest manifest = load_manifest(o.manifest);
+  std::vector<const ManifestCase*> selected;
+  for (const auto& id : o.cases) selected.push_back(&manifest.find(id));
+  if (o.cases.empty())
+    for (const auto& mc : manifest.cases) selected.push_back(&mc);
+
+  // Names and parameters are checked up front: a typo fails in a second, not after an hour.
+  for (const auto* mc : selected) {
+    try {
+      c.problems.create(mc->problem, mc->problem_params);
+      c.methods.resolve(mc->method, mc->method_params);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}:{}: case '{}': {}", manifest.path.string(), mc->line,
+                                   mc->id, e.what()));
+    }
+  }
+  const Baseline baseline =
+      manifest.baseline.empty() ? Baseline{} : load_baseline(manifest.baseline);
+
+  const double w0 = wall_seconds(), c0 = cpu_seconds();
+  struct Outcome {
+    const ManifestCase* mc;
+    std::optional<StudyResult> study;
+    std::string error;
+    std::vector<BandViolation> bands;
+    std::vector<Drift> drifts;
+  };
+  std::vector<Outcome> outcomes;
+  std::vector<ReportSection> sections;
+  Baseline updated = baseline;
+  updated.suite = manifest.name;
+  const std::string manifest_file = manifest.path.filename().string();
+
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    const ManifestCase& mc = *selected[k];
+    Outcome oc{&mc, std::nullopt, "", {}, {}};
+    CaseSpec spec;
+    spec.problem = mc.problem;
+    spec.problem_params = mc.problem_params;
+    spec.method = mc.method;
+    spec.method_params = mc.method_params;
+    spec.perturbation = mc.perturbation;
+    const auto nodes = resolutions(mc, o.full);
+    try {
+      StudyResult s = run_study(
+          c, spec, nodes,
+          progress_printer(progress, fmt::format("[{}/{}] {}:", k + 1, selected.size(), mc.id)));
+      s.label = mc.id;
+      oc.bands = check_bands(mc, s, manifest_file);
+      BaselineCase current = baseline_from_study(s);
+      if (o.update_baseline) {
+        if (!o.full) updated.cases[mc.id] = current;
+      } else if (!manifest.baseline.empty()) {
+        const auto it = baseline.cases.find(mc.id);
+        if (it == baseline.cases.end()) {
+          oc.drifts.push_back(Drift{mc.id, "resolution", 0, 0, 0, 0, false,
+                                    fmt::format("{}: not in the baseline {}; record it with "
+                                                "`mfv verify {} --update-baseline`",
+                                                mc.id, manifest.baseline.string(), o.manifest)});
+        } else {
+          BaselineCase base = it->second;
+          if (o.full) {
+            // --full runs other resolutions: compare those in both, not the rates.
+            std::erase_if(current.resolutions, [&](const BaselineEntry& e) {
+              return std::none_of(base.resolutions.begin(), base.resolutions.end(),
+                                  [&](const BaselineEntry& b) { return b.nodes == e.nodes; });
+            });
+            std::erase_if(base.resolutions, [&](const BaselineEntry& e) {
+              return std::none_of(current.resolutions.begin(), current.resolutions.end(),
+                                  [&](const BaselineEntry& b) { return b.nodes == e.nodes; });
+            });
+            base.l2_rate = base.h1_rate = current.l2_rate = current.h1_rate = std::nan("");
+          }
+          oc.drifts = check_drift(mc.id, base, current, manifest.drift_tolerance,
+                                  manifest.drift_floor);
+        }
+      }
+      oc.study = s;
+      add_to_sections(sections, std::move(s));
+    } catch (const SingularError& e) {
+      oc.error = e.what();
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
+                              e.what());
+    }
+    outcomes.push_back(std::move(oc));
+  }
+  const double wall = wall_seconds() - w0, cpu = cpu_seconds() - c0;
+
+  // Verdicts: a band violation, a case that could not run or a number worse than the
+  // baseline fails; a better number only asks for --update-baseline.
+  int failed = 0;
+  MarkdownTable verdicts({"case", "problem", "method", "nodes", "L2 rate", "H1 rate", "bands",
+                          "baseline", "verdict"},
+                         {'l', 'l', 'l', 'l', 'r', 'r', 'l', 'l', 'l'});
+  std::vector<std::string> messages;
+  for (const auto& oc : outcomes) {
+    const auto worse = std::count_if(oc.drifts.begin(), oc.drifts.end(),
+                                     [](const Drift& d) { return d.worse; });
+    const bool missing_baseline = std::any_of(oc.drifts.begin(), oc.drifts.end(), [](auto& d) {
+      return d.metric == "resolution";
+    });
+    const bool ok = oc.error.empty() && oc.bands.empty() && worse == 0 && !missing_baseline;
+    if (!ok) ++failed;
+    std::vector<std::string> nodes;
+    for (int n : resolutions(*oc.mc, o.full)) nodes.push_back(std::to_string(n));
+    std::string base_state = manifest.baseline.empty() ? "none"
+                             : o.update_baseline      ? "updated"
+                             : oc.drifts.empty()      ? "unchanged"
+                                                      : fmt::format("{} drift(s)", oc.drifts.size());
+    verdicts.add_row(
+        {oc.mc->id, oc.mc->problem, oc.mc->method, fmt::format("{}", fmt::join(nodes, ",")),
+         oc.study ? fmt_rate(oc.study->rates.l2) : "–",
+         oc.study ? fmt_rate(oc.study->rates.h1_semi) : "–",
+         oc.error.empty() ? (oc.bands.empty() ? "inside" : fmt::format("{} violated",
+                                                                       oc.bands.size()))
+                          : "not run",
+         base_state, ok ? "PASS" : "FAIL"});
+    if (!oc.error.empty()) messages.push_back(fmt::format("{}: could not run: {}", oc.mc->id,
+                                                          oc.error));
+    for (const auto& b : oc.bands) messages.push_back(b.message);
+    for (const auto& d : oc.drifts) messages.push_back(d.message);
+  }
+
+  out << verdicts.str();
+  for (const auto& m : messages) out << m << "\n";
+  const std::string summary =
+      failed == 0 ? fmt::format("PASS: all {} case(s) of suite '{}' inside their bands{}",
+                                outcomes.size(), manifest.name,
+                                manifest.baseline.empty() ? "" : " and the baseline")
+                  : fmt::format("FAIL: {} of {} case(s) of suite '{}' failed (see above)",
+                                failed, outcomes.size(), manifest.name);
+  out << summary << "\n";
+
+  if (o.update_baseline && !manifest.baseline.empty()) {
+    if (o.full) {
+      out << "baseline not updated: it records the default resolutions; run without --full\n";
+    } else {
+      std::filesystem::create_directories(manifest.baseline.parent_path());
+      write_file_atomic(manifest.baseline, baseline_to_toml(updated));
+      out << fmt::format("baseline written: {}\n", manifest.baseline.string());
+    }
+  }
+
+  if (!o.no_report) {
+    const std::filesystem::path dir =
+        o.report.empty() ? std::filesystem::path("reports") / manifest.name
+                         : std::filesystem::path(o.report);
+    std::string head = fmt::format("# mfv verification report: {}\n\n", manifest.name);
+    if (!manifest.description.empty()) head += manifest.description + "\n\n";
+    head += fmt::format("Manifest `{}`{}. {}\n\n**{}**\n\n## Verdict per case\n\n{}\n",
+                        o.manifest, o.full ? " (`--full` resolutions)" : "",
+                        machine_line(wall, cpu), summary, verdicts.str());
+    if (!messages.empty()) {
+      head += "Messages:\n\n";
+      for (const auto& m : messages) head += fmt::format("- {}\n", m);
+      head += "\n";
+    }
+    for (auto& s : sections)
+      for (const auto& oc : outcomes)
+        if (!oc.error.empty() && oc.mc->problem == s.problem)
+          s.failures.push_back(fmt::format("{}: {}", oc.mc->id, oc.error));
+    write_report(c, dir, head, sections, o.vtk);
+    out << fmt::format("report: {}\n", (dir / "index.md").string());
+  }
+  return failed == 0 ? 0 : 1;
+}
+
+namespace {
+/// A CMake bracket argument that survives any case id.
+std::string bracket(const std::string& s) { return "[==[" + s + "]==]"; }
+}  // namespace
+
+void command_manifest_ctest(const std::string& manifest_path, const std::string& mfv_executable,
+                            const std::string& output) {
+  const Manifest m = load_manifest(manifest_path);
+  const std::string manifest_abs = std::filesystem::absolute(manifest_path).string();
+  std::string text = fmt::format("# generated by mfv manifest-ctest from {}\n", manifest_abs);
+  for (const auto& c : m.cases) {
+    std::vector<std::string> labels = {"regression", c.problem, c.method};
+    for (const auto& l : c.labels) labels.push_back(l);
+    text += fmt::format("add_test({} {} verify {} --case {} --no-report)\n", bracket(c.id),
+                        bracket(mfv_executable), bracket(manifest_abs), bracket(c.id));
+    text += fmt::format("set_tests_properties({} PROPERTIES LABELS {} TIMEOUT 900)\n",
+                        bracket(c.id), bracket(fmt::format("{}", fmt::join(labels, ";"))));
+  }
+  write_file_atomic(output, text);
 }
 
 }  // namespace mfv

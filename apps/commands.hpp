@@ -21,4 +21,45 @@ struct RunOptions {
 /// `mfv run`: one case; prints errors, headline quantity and CPU times.
 void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out);
 
+struct CompareOptions {
+  std::string problem, problem_params;
+  /// Each "name" or "name:key=value,...", e.g. "rkpm:kernel=gaussian,j=1".
+  std::vector<std::string> methods;
+  std::vector<int> nodes;  ///< empty: the problem's standard (or, with full, full) resolutions
+  bool full = false;
+  double perturbation = 0;
+  std::string report;  ///< report directory; empty: print only
+  bool vtk = true;
+};
+/// `mfv study` / `mfv compare`: refinement studies of one or several methods on one problem;
+/// prints a rate table and, with a report directory, writes the comparison report there.
+/// Returns the exit code (0, or 3 if a study could not run).
+int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& out,
+                    std::ostream& progress);
+
+/// "rkpm:kernel=gaussian,j=1" → method name and parameters; throws InputError if malformed.
+std::pair<std::string, std::string> split_method_spec(const std::string& spec);
+
+struct VerifyOptions {
+  std::string manifest;
+  bool full = false;
+  std::vector<std::string> cases;  ///< only these ids; empty: all
+  bool update_baseline = false;
+  std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
+  bool no_report = false;
+  bool vtk = true;
+};
+/// `mfv verify`: runs a manifest's studies, checks every band and the baseline, writes the
+/// report, prints one verdict line per case and every violation. Returns 0 when all cases are
+/// inside their bands and no number got worse than the baseline by more than the tolerance,
+/// 1 otherwise.
+int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out,
+                   std::ostream& progress);
+
+/// `mfv manifest-ctest`: writes a CTest script with one test per manifest case
+/// (`mfv verify <manifest> --case <id> --no-report`), labelled regression, problem, method and
+/// the case's labels, so `ctest -L rkpm` and `ctest -j` work.
+void command_manifest_ctest(const std::string& manifest, const std::string& mfv_executable,
+                            const std::string& output);
+
 }  // namespace mfv

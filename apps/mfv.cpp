@@ -22,11 +22,67 @@ int main(int argc, char** argv) {
   cmd_run->add_option("--nodes,-n", run.nodes, "number of particles")->required();
   cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx");
 
+  // `study` is `compare` with one method; both share the options.
+  mfv::CompareOptions cmp;
+  std::string study_params;
+  auto add_study_options = [&](CLI::App* c) {
+    c->add_option("problem", cmp.problem, "problem name (see mfv list)")->required();
+    c->add_option("--problem-params", cmp.problem_params, "problem parameters key=value,...");
+    c->add_option("--nodes,-n", cmp.nodes,
+                  "resolutions (default: the problem's standard refinement study)")
+        ->delimiter(',');
+    c->add_flag("--full", cmp.full, "the paper-size resolutions");
+    c->add_option("--perturb", cmp.perturbation, "random particle offsets, fraction of dx");
+    c->add_option("--report,-r", cmp.report, "write a report into this directory");
+    c->add_flag("!--no-vtk", cmp.vtk, "leave VTK files out of the report");
+  };
+  auto* cmd_study = app.add_subcommand("study", "refinement study of one method: errors, rates");
+  add_study_options(cmd_study);
+  std::string study_method;
+  cmd_study->add_option("--method,-m", study_method, "method name")->required();
+  cmd_study->add_option("--params,-p", study_params, "method parameters key=value,...");
+
+  auto* cmd_compare = app.add_subcommand(
+      "compare", "refinement studies of several methods on one problem, with a report");
+  add_study_options(cmd_compare);
+  cmd_compare
+      ->add_option("--method,-m", cmp.methods,
+                   "method, repeatable: name or name:key=value,... (e.g. rkpm:j=1)")
+      ->required();
+
+  mfv::VerifyOptions ver;
+  auto* cmd_verify = app.add_subcommand(
+      "verify", "run a suite manifest; exit 1 if a case leaves its band or worsens the baseline");
+  cmd_verify->add_option("manifest", ver.manifest, "suite manifest (TOML), e.g. suites/default.toml")
+      ->required();
+  cmd_verify->add_flag("--full", ver.full, "the paper-size resolutions (full_nodes)");
+  cmd_verify->add_option("--case", ver.cases, "run only this case id (repeatable)");
+  cmd_verify->add_flag("--update-baseline", ver.update_baseline,
+                       "record this run's numbers as the baseline");
+  cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)");
+  cmd_verify->add_flag("--no-report", ver.no_report, "write no report");
+  cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report");
+
+  std::string ctest_manifest, ctest_output, ctest_mfv;
+  auto* cmd_ctest = app.add_subcommand(
+      "manifest-ctest", "write a CTest script with one regression test per manifest case");
+  cmd_ctest->add_option("manifest", ctest_manifest, "suite manifest (TOML)")->required();
+  cmd_ctest->add_option("--output,-o", ctest_output, "the CTest script to write")->required();
+  cmd_ctest->add_option("--mfv", ctest_mfv, "path of the mfv executable the tests run")
+      ->required();
+
   CLI11_PARSE(app, argc, argv);
   try {
     const mfv::Catalogue catalogue;
     if (*list) mfv::command_list(catalogue, std::cout);
     if (*cmd_run) mfv::command_run(catalogue, run, std::cout);
+    if (*cmd_study) {
+      cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};
+      return mfv::command_compare(catalogue, cmp, std::cout, std::cerr);
+    }
+    if (*cmd_compare) return mfv::command_compare(catalogue, cmp, std::cout, std::cerr);
+    if (*cmd_verify) return mfv::command_verify(catalogue, ver, std::cout, std::cerr);
+    if (*cmd_ctest) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
   } catch (const mfv::InputError& e) {
     std::cerr << "mfv: input error: " << e.what() << "\n";
     return 2;

@@ -56,6 +56,9 @@ class Problem {
   /// Exact values of the headline quantities (for the reports).
   virtual std::map<std::string, double> headline_exact() const { return {}; }
   virtual std::vector<PublishedValue> published() const { return {}; }
+  /// What the reports say about the published values: known misprints, ambiguous readings
+  /// and the best explanation of a gap (Markdown paragraphs). Numbers stay in the tables.
+  virtual std::vector<std::string> published_notes() const { return {}; }
   /// Gauss points per cell between particles used by the paper for error norms.
   virtual int paper_error_points() const { return 12; }
 };

@@ -1,0 +1,46 @@
+/// The Markdown section of a problem's refinement studies: tables of errors, rates and CPU
+/// times per method × resolution, published values beside ours, convergence plots, VTK files.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "verify/case.hpp"
+#include "verify/catalogue.hpp"
+
+namespace mfv {
+
+/// The studies of one problem (with one set of problem parameters).
+struct ReportSection {
+  std::string problem;
+  Params problem_params;
+  std::vector<StudyResult> studies;
+  std::vector<std::string> failures;  ///< "label: message" of studies that could not run
+};
+
+/// Groups studies by (problem, problem parameters), in first-seen order.
+void add_to_sections(std::vector<ReportSection>& sections, StudyResult study);
+
+/// "laplace-tanh s=10" → "laplace-tanh-s-10": a file-name-safe slug.
+std::string slug(const std::string& text);
+
+/// One published value next to our number for it.
+struct PublishedComparison {
+  PublishedValue published;
+  std::string study;       ///< our study's label; empty when no study matches
+  double ours = 0;         ///< NaN when not run
+};
+
+/// Every published value of the problem against every study that matches it: same method,
+/// resolved parameters containing the published ones, a case with the published node count.
+/// Quantities: a headline name, "error u" (relative L2 on the common rule) or "error du/dx"
+/// (relative H1 seminorm).
+std::vector<PublishedComparison> compare_published(const Problem& problem,
+                                                   const std::vector<StudyResult>& studies);
+
+/// Writes plots under `dir`/plots and VTK files under `dir`/vtk (when `vtk`), and returns the
+/// section's Markdown with links relative to `dir`.
+std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
+                                  const std::filesystem::path& dir, bool vtk);
+
+}  // namespace mfv
