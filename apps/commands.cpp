@@ -133,8 +133,9 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   for (const auto& [k, v] : r.headline) out << fmt::format("{:<22} {:.6f}\n", k, v);
   out << fmt::format("CPU       setup {:.4f} s, assembly {:.4f} s, solve {:.4f} s\n", r.cpu.setup,
                      r.cpu.assembly, r.cpu.solve);
-  out << fmt::format("solver    {}: {} unknowns, {} nonzeros, residual {:.1e}\n", r.solve.solver,
-                     r.solve.unknowns, r.solve.nonzeros, r.solve.residual);
+  out << fmt::format("solver    {}: {} unknowns, {} nonzeros, residual {:.1e}, condition {:.2e}\n",
+                     r.solve.solver, r.solve.unknowns, r.solve.nonzeros, r.solve.residual,
+                     r.solve.condition);
 }
 
 std::pair<std::string, std::string> split_method_spec(const std::string& spec) {
@@ -292,7 +293,8 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
             });
             base.l2_rate = base.h1_rate = current.l2_rate = current.h1_rate = std::nan("");
           }
-          oc.drifts = check_drift(mc.id, base, current, manifest.drift_tolerance,
+          oc.drifts = check_drift(mc.id, base, current,
+                                  mc.drift_tolerance.value_or(manifest.drift_tolerance),
                                   manifest.drift_floor);
         }
       }

@@ -123,11 +123,12 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   // 2. Errors and times per resolution.
   md += "### Errors and CPU times\n\nErrors on the common rule (uniform cells, 6 Gauss points "
         "each, at least 1200 cells; the same for every method); \"H1\" is the seminorm ‖e′‖, "
-        "\"rel\" divides by the exact solution's norm. CPU seconds per phase.\n\n";
+        "\"rel\" divides by the exact solution's norm; \"cond\" is the 2-norm condition number of "
+        "the solved system (above ~1e12 the errors carry round-off). CPU seconds per phase.\n\n";
   {
     std::vector<std::string> head = {"method", "nodes", "h", "L2", "L2 rel", "H1", "H1 rel"};
     for (const auto& n : headline_names) head.push_back(n);
-    for (const char* t : {"setup s", "assembly s", "solve s"}) head.push_back(t);
+    for (const char* t : {"cond", "setup s", "assembly s", "solve s"}) head.push_back(t);
     std::vector<char> align(head.size(), 'r');
     align[0] = 'l';
     MarkdownTable t(head, align);
@@ -140,6 +141,7 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
           const auto it = r.headline.find(n);
           row.push_back(it == r.headline.end() ? "–" : fmt::format("{:.5f}", it->second));
         }
+        row.push_back(fmt_sci(r.solve.condition, 1));
         row.push_back(fmt::format("{:.4f}", r.cpu.setup));
         row.push_back(fmt::format("{:.4f}", r.cpu.assembly));
         row.push_back(fmt::format("{:.4f}", r.cpu.solve));

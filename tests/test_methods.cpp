@@ -1,6 +1,8 @@
 /// Method-level checks: the linear patch test per method with its expected outcome, the
 /// Table 1 reading of 001 (gradient and internal force), boundary treatments, bad input.
+#include <cctype>
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -41,12 +43,29 @@ const Catalogue& patch_catalogue() {
   return c;
 }
 
+/// What the patch test is expected to show for a method.
+enum class Patch {
+  exact,        ///< reproduces u = 1 + 2x to round-off
+  integration,  ///< misses by the quadrature error only: MLS shape functions are rational, so
+                ///< Gauss cells that do not follow the support edges of perturbed particles
+                ///< integrate them inexactly (001 §6; Dolbow & Belytschko 1999)
+  fails         ///< no linear consistency
+};
+
 struct PatchCase {
   const char* method;
   const char* params;
   double perturbation;
-  bool passes;  ///< expected: reproduces u to 1e-8
+  Patch expected;
 };
+
+std::string patch_name(const ::testing::TestParamInfo<PatchCase>& info) {
+  std::string n = std::string(info.param.method) + "_" + info.param.params +
+                  (info.param.perturbation > 0 ? "_perturbed" : "_uniform");
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n;
+}
 
 class PatchTest : public ::testing::TestWithParam<PatchCase> {};
 
@@ -54,24 +73,36 @@ TEST_P(PatchTest, ExpectedOutcome) {
   const PatchCase& c = GetParam();
   CaseSpec spec{"linear-patch", {}, c.method, Params::parse(c.params), 11, c.perturbation};
   const CaseResult r = run_case(patch_catalogue(), spec);
-  if (c.passes) {
-    EXPECT_LT(r.errors.l2, 1e-8) << c.method << " " << c.params;
-    EXPECT_LT(r.errors.h1_semi, 1e-6) << c.method << " " << c.params;
-  } else {
-    EXPECT_GT(r.errors.l2, 1e-6) << c.method << " " << c.params << " was expected to fail";
+  switch (c.expected) {
+    case Patch::exact:
+      EXPECT_LT(r.errors.l2, 1e-8) << c.method << " " << c.params;
+      EXPECT_LT(r.errors.h1_semi, 1e-6) << c.method << " " << c.params;
+      break;
+    case Patch::integration:
+      EXPECT_GT(r.errors.l2, 1e-8) << c.method << " " << c.params << ": now exact?";
+      EXPECT_LT(r.errors.l2, 1e-3) << c.method << " " << c.params;
+      break;
+    case Patch::fails:
+      EXPECT_GT(r.errors.l2, 1e-3) << c.method << " " << c.params << " was expected to fail";
+      break;
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Methods, PatchTest,
-    ::testing::Values(PatchCase{"fem", "", 0.0, true}, PatchCase{"fem", "", 0.3, true},
-                      PatchCase{"efg", "", 0.0, true}, PatchCase{"efg", "", 0.3, true},
-                      PatchCase{"efg", "bc=penalty", 0.3, true},
-                      PatchCase{"efg", "kernel=wendland", 0.3, true},
-                      PatchCase{"rkpm", "j=0", 0.0, true}, PatchCase{"rkpm", "j=0", 0.3, true},
-                      PatchCase{"wavelet", "j=0", 0.0, true},
+    ::testing::Values(PatchCase{"fem", "", 0.0, Patch::exact},
+                      PatchCase{"fem", "", 0.3, Patch::exact},
+                      PatchCase{"efg", "", 0.0, Patch::exact},
+                      PatchCase{"efg", "", 0.3, Patch::integration},
+                      PatchCase{"efg", "bc=penalty", 0.3, Patch::integration},
+                      PatchCase{"efg", "kernel=wendland", 0.3, Patch::integration},
+                      PatchCase{"efg", "integration=nodal", 0.0, Patch::exact},
+                      PatchCase{"rkpm", "j=0", 0.0, Patch::exact},
+                      PatchCase{"rkpm", "j=0", 0.3, Patch::exact},
+                      PatchCase{"wavelet", "j=0", 0.0, Patch::exact},
                       // Uncorrected SPH kernels do not even reproduce constants at the ends.
-                      PatchCase{"sph", "", 0.0, false}));
+                      PatchCase{"sph", "", 0.0, Patch::fails}),
+    patch_name);
 
 TEST(Methods, GradientAndInternalForceAreTheWeakForm) {
   // 001 Table 1: f_int = Σ_q w_q ∂N_I/∂x σ_q with σ = u' is exactly K u for the Laplacian.

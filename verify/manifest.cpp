@@ -218,7 +218,7 @@ bool has_whitespace(const std::string& s) {
 ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   static const std::vector<std::string> kKeys = {
       "id",    "problem",    "problem_params", "method", "method_params", "nodes",
-      "full_nodes", "perturbation", "labels", "bands"};
+      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance"};
   ManifestCase c;
   c.line = line_of(t);
   c.id = get_string(r, require(r, t, "id", "[[case]]", "id = \"laplace-tanh/fem\""), "id");
@@ -239,6 +239,12 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
     if (c.perturbation < 0)
       r.fail(line_of(*n), fmt::format("perturbation {} is negative", c.perturbation),
              "give a fraction of the particle spacing >= 0");
+  }
+  if (auto n = t.get("drift_tolerance")) {
+    c.drift_tolerance = get_number(r, *n, "drift_tolerance");
+    if (*c.drift_tolerance <= 0)
+      r.fail(line_of(*n), fmt::format("drift_tolerance {} is not positive", *c.drift_tolerance),
+             "give a relative tolerance > 0, or leave it out to use the suite's");
   }
   if (auto n = t.get("labels")) {
     const auto* a = n->as_array();

@@ -20,6 +20,9 @@
 //   full_nodes = [21, 41, 81, 161, 241]       # optional, used with --full (default: nodes)
 //   perturbation = 0.0                        # optional, >= 0
 //   labels = ["fast"]                         # optional extra CTest labels
+//   drift_tolerance = 0.5                     # optional, > 0: overrides the suite's for this
+//                                             # case (ill-conditioned systems whose errors
+//                                             # carry round-off)
 //   [case.bands]                              # optional; each band is [low, high], low <= high
 //   l2_rate = [1.9, 2.1]                      # least-squares rates over the resolutions
 //   h1_rate = [0.9, 1.1]
@@ -35,6 +38,7 @@
 // `-inf` for a one-sided band. "h1" means the H1 seminorm ‖e'‖ throughout, as in the paper.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +60,7 @@ struct ManifestCase {
   std::vector<int> nodes, full_nodes;
   double perturbation = 0;
   std::vector<std::string> labels;
+  std::optional<double> drift_tolerance;       ///< overrides Manifest::drift_tolerance
   std::map<std::string, Band> bands;           ///< keyed by a name from band_metrics()
   std::map<std::string, Band> headline_bands;  ///< keyed by the problem's headline name
   int line = 0;                                ///< line of the case's [[case]] header

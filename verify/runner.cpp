@@ -1,3 +1,5 @@
+#include <Eigen/SVD>
+#include <limits>
 #include "verify/runner.hpp"
 
 #include <cmath>
@@ -63,6 +65,13 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
                                                      : "SparseLU (penalty)";
   info.unknowns = static_cast<int>(A.rows());
   info.nonzeros = A.nonZeros();
+  if (A.rows() <= kMaxConditionSize) {
+    const Eigen::VectorXd sv = Eigen::BDCSVD<Eigen::MatrixXd>(Eigen::MatrixXd(A)).singularValues();
+    info.condition = sv[sv.size() - 1] > 0 ? sv[0] / sv[sv.size() - 1]
+                                           : std::numeric_limits<double>::infinity();
+  } else {
+    info.condition = std::numeric_limits<double>::quiet_NaN();
+  }
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
   lu.compute(A);
   if (lu.info() != Eigen::Success)

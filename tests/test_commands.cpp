@@ -1,0 +1,188 @@
+/// The subcommands end to end: `mfv verify` passes inside its bands and fails, naming the case,
+/// when a band is tightened or a number is worse than the baseline; reports are replaced only
+/// by complete ones; `mfv compare` and `mfv manifest-ctest` write what they promise.
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "apps/commands.hpp"
+#include "methods/core/errors.hpp"
+#include "verify/baseline.hpp"
+
+namespace mfv {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Commands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> n{0};
+    dir_ = fs::temp_directory_path() / ("mfv-commands-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(n++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  /// A one-case manifest: linear FEM on laplace-tanh, whose L2 rate is about 2.
+  fs::path manifest(const std::string& l2_rate_band, bool baseline = false) {
+    return write("suite.toml",
+                 std::string("[suite]\nname = \"t\"\n") +
+                     (baseline ? "baseline = \"baseline.toml\"\n" : "") +
+                     "[[case]]\n"
+                     "id = \"lt/fem\"\n"
+                     "problem = \"laplace-tanh\"\n"
+                     "method = \"fem\"\n"
+                     "nodes = [41, 81, 161]\n"
+                     "[case.bands]\n"
+                     "l2_rate = " + l2_rate_band + "\n");
+  }
+  int verify(const fs::path& m, std::string& out, bool update = false, bool report = false) {
+    VerifyOptions o;
+    o.manifest = m.string();
+    o.update_baseline = update;
+    o.no_report = !report;
+    o.report = (dir_ / "report").string();
+    o.vtk = true;
+    std::ostringstream s, progress;
+    const int rc = command_verify(catalogue_, o, s, progress);
+    out = s.str();
+    return rc;
+  }
+
+  const Catalogue catalogue_;
+  fs::path dir_;
+};
+
+TEST_F(Commands, VerifyPassesInsideTheBand) {
+  std::string out;
+  EXPECT_EQ(verify(manifest("[1.8, 2.2]"), out), 0) << out;
+  EXPECT_NE(out.find("PASS"), std::string::npos) << out;
+}
+
+TEST_F(Commands, VerifyFailsNamingTheCaseWhenABandIsTightened) {
+  std::string out;
+  EXPECT_EQ(verify(manifest("[2.5, 3.0]"), out), 1) << out;
+  EXPECT_NE(out.find("lt/fem: l2_rate"), std::string::npos) << out;
+  EXPECT_NE(out.find("outside the band"), std::string::npos) << out;
+  EXPECT_NE(out.find("suite.toml:9"), std::string::npos) << out;  // the band's line
+  EXPECT_NE(out.find("FAIL: 1 of 1"), std::string::npos) << out;
+}
+
+TEST_F(Commands, VerifyFailsWhenANumberIsWorseThanTheBaseline) {
+  std::string out;
+  const fs::path m = manifest("[1.8, 2.2]", true);
+  ASSERT_EQ(verify(m, out, true), 0) << out;
+  ASSERT_TRUE(fs::exists(dir_ / "baseline.toml"));
+  EXPECT_EQ(verify(m, out), 0) << "an unchanged run must match its baseline: " << out;
+
+  // Pretend the recorded finest error was 30% smaller: the current one is then "worse".
+  Baseline b = load_baseline(dir_ / "baseline.toml");
+  b.cases.at("lt/fem").resolutions.back().l2 *= 0.7;
+  std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
+  EXPECT_EQ(verify(m, out), 1) << out;
+  EXPECT_NE(out.find("lt/fem: l2 at 161 nodes"), std::string::npos) << out;
+  EXPECT_NE(out.find("worse than the baseline"), std::string::npos) << out;
+}
+
+TEST_F(Commands, VerifyRejectsAnUnknownMethodBeforeRunning) {
+  const fs::path m = write("bad.toml",
+                           "[[case]]\nid = \"x\"\nproblem = \"laplace-tanh\"\nmethod = \"efgg\"\n"
+                           "nodes = [21, 41]\n");
+  std::string out;
+  try {
+    verify(m, out);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.toml:1"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("efgg"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("efg"), std::string::npos) << msg;  // the valid names are listed
+  }
+}
+
+TEST_F(Commands, ReportIsWrittenAndAFailedRunKeepsThePreviousOne) {
+  std::string out;
+  ASSERT_EQ(verify(manifest("[1.8, 2.2]"), out, false, true), 0) << out;
+  const fs::path index = dir_ / "report" / "index.md";
+  ASSERT_TRUE(fs::exists(index));
+  std::stringstream text;
+  text << std::ifstream(index).rdbuf();
+  const std::string md = text.str();
+  EXPECT_NE(md.find("## laplace-tanh"), std::string::npos);
+  EXPECT_NE(md.find("Published values beside ours"), std::string::npos);
+  EXPECT_NE(md.find("004 II Table 1"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir_ / "report" / "vtk" / "laplace-tanh" / "lt-fem" / "study.pvd"));
+
+  // A run that fails on input must not touch the previous report.
+  const fs::path bad = write("bad.toml", "[[case]]\nid = \"x\"\nproblem = \"nope\"\n"
+                                         "method = \"fem\"\nnodes = [21, 41]\n");
+  EXPECT_THROW(verify(bad, out, false, true), InputError);
+  std::stringstream again;
+  again << std::ifstream(index).rdbuf();
+  EXPECT_EQ(again.str(), md);
+}
+
+TEST_F(Commands, CompareWritesOneReportWithEveryMethod) {
+  CompareOptions o;
+  o.problem = "laplace-tanh";
+  o.methods = {"fem", "rkpm:kernel=gaussian,j=1"};
+  o.nodes = {21, 41, 81};
+  o.report = (dir_ / "cmp").string();
+  o.vtk = false;
+  std::ostringstream out, progress;
+  EXPECT_EQ(command_compare(catalogue_, o, out, progress), 0);
+  EXPECT_NE(progress.str().find("[2/2] rkpm j=1,kernel=gaussian: resolution 3/3: 81 nodes"),
+            std::string::npos)
+      << progress.str();
+  std::stringstream text;
+  text << std::ifstream(dir_ / "cmp" / "index.md").rdbuf();
+  EXPECT_NE(text.str().find("| fem "), std::string::npos);
+  EXPECT_NE(text.str().find("| rkpm j=1,kernel=gaussian "), std::string::npos);
+}
+
+TEST_F(Commands, CompareRefusesUnknownParametersListingValidOnes) {
+  CompareOptions o;
+  o.problem = "laplace-tanh";
+  o.methods = {"rkpm:jj=1"};
+  std::ostringstream out, progress;
+  try {
+    command_compare(catalogue_, o, out, progress);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("jj"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("kernel"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(progress.str().empty()) << "nothing may run before the input is checked";
+}
+
+TEST_F(Commands, ManifestCtestRegistersEveryCaseWithLabels) {
+  const fs::path m = manifest("[1.8, 2.2]");
+  const fs::path script = dir_ / "tests.cmake";
+  command_manifest_ctest(m.string(), "/bin/mfv", script.string());
+  std::stringstream text;
+  text << std::ifstream(script).rdbuf();
+  EXPECT_NE(text.str().find("add_test([==[lt/fem]==] [==[/bin/mfv]==] verify"),
+            std::string::npos)
+      << text.str();
+  EXPECT_NE(text.str().find("--case [==[lt/fem]==] --no-report"), std::string::npos);
+  EXPECT_NE(text.str().find("LABELS [==[regression;laplace-tanh;fem]==]"), std::string::npos);
+}
+
+TEST(SplitMethodSpec, NameAndParameters) {
+  EXPECT_EQ(split_method_spec("rkpm:j=1,kernel=gaussian"),
+            (std::pair<std::string, std::string>{"rkpm", "j=1,kernel=gaussian"}));
+  EXPECT_EQ(split_method_spec("fem"), (std::pair<std::string, std::string>{"fem", ""}));
+  EXPECT_THROW(split_method_spec(":j=1"), InputError);
+}
+
+}  // namespace
+}  // namespace mfv
