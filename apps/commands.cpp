@@ -16,6 +16,7 @@
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "reports/study_report.hpp"
+#include "reports/vtk.hpp"
 #include "verify/baseline.hpp"
 #include "verify/manifest.hpp"
 #include "verify/runner.hpp"
@@ -136,6 +137,10 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   out << fmt::format("solver    {}: {} unknowns, {} nonzeros, residual {:.1e}, condition {:.2e}\n",
                      r.solve.solver, r.solve.unknowns, r.solve.nonzeros, r.solve.residual,
                      r.solve.condition);
+  if (!o.vtk.empty()) {
+    write_case_vtp(o.vtk, r);
+    out << fmt::format("vtk       {}\n", o.vtk);
+  }
 }
 
 std::pair<std::string, std::string> split_method_spec(const std::string& spec) {

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   cmd_run->add_option("--problem-params", run.problem_params, "problem parameters key=value,...");
   cmd_run->add_option("--nodes,-n", run.nodes, "number of particles")->required();
   cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx");
+  cmd_run->add_option("--vtk", run.vtk, "also write the particles and fields to this .vtp file");
 
   // `study` is `compare` with one method; both share the options.
   mfv::CompareOptions cmp;
