@@ -754,6 +754,18 @@ TEST_F(CheckBandsTest, FinestMetricsUseTheLastResolution) {
   EXPECT_HAS(v[0].message, "bands.toml:10");
 }
 
+TEST_F(CheckBandsTest, FullStudyChecksFinestBandsAtTheDefaultFinest) {
+  // --full adds a finer resolution; the _finest bands still apply to the last of `nodes`.
+  const ManifestCase c = with_bands("l2_rel_finest = [1e-4, 6e-4]\n");
+  StudyResult s = study();
+  ASSERT_EQ(s.cases.back().spec.nodes, c.nodes.back());
+  CaseResult finer = s.cases.back();
+  finer.spec.nodes = 2 * c.nodes.back();
+  finer.errors.l2_rel = 1e-6;  // outside the band, but not the resolution it was written for
+  s.cases.push_back(finer);
+  EXPECT_TRUE(check_bands(c, s, "bands.toml").empty());
+}
+
 TEST_F(CheckBandsTest, PrintedValueIsVisiblyOutside) {
   const ManifestCase c = with_bands("l2_rate = [1.9, 2.1]\n");
   StudyResult s = study();

@@ -387,7 +387,12 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
                                        const std::string& manifest_file) {
   std::vector<BandViolation> out;
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  // The finest of `nodes`: a --full study runs more resolutions, but the _finest and headline
+  // bands were written for the default finest one, which full_nodes normally contains.
   const CaseResult* finest = s.cases.empty() ? nullptr : &s.cases.back();
+  if (!c.nodes.empty())
+    for (const auto& r : s.cases)
+      if (r.spec.nodes == c.nodes.back()) finest = &r;
   auto where = [&](const Band& b) { return fmt::format("({}:{})", manifest_file, b.line); };
 
   auto check = [&](const std::string& metric, const std::string& shown_name, double value,

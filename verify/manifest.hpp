@@ -26,7 +26,8 @@
 //   [case.bands]                              # optional; each band is [low, high], low <= high
 //   l2_rate = [1.9, 2.1]                      # least-squares rates over the resolutions
 //   h1_rate = [0.9, 1.1]
-//   l2_finest = [0.0, 2e-3]                   # errors at the finest (last) resolution
+//   l2_finest = [0.0, 2e-3]                   # errors at the finest (last) of `nodes`, also
+//                                             # with --full when full_nodes contains it
 //   h1_finest = [0.0, 0.3]
 //   l2_rel_finest = [0.0, 1e-2]
 //   h1_rel_finest = [0.0, 1e-1]
@@ -95,7 +96,8 @@ struct BandViolation {
 };
 
 /// Every band of `c` that the study misses. Rates come from s.rates (common rule), the
-/// _finest metrics and headlines from the last case of `s`. NaN always violates.
+/// _finest metrics and headlines from the case of `s` at the last of c.nodes (the last case
+/// of `s` if there is none, e.g. a --full study without it). NaN always violates.
 /// `manifest_file` is the name printed with the band's line.
 std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult& s,
                                        const std::string& manifest_file);
