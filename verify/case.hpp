@@ -33,9 +33,9 @@ struct SolveInfo {
   int unknowns = 0;
   long nonzeros = 0;      ///< of the system matrix
   double residual = 0;    ///< ‖A x - b‖ / ‖b‖
-  /// 2-norm condition number of the solved matrix (dense SVD, systems up to
-  /// kMaxConditionSize unknowns; NaN above). Wide Gaussian windows make it huge: then the
-  /// errors carry round-off and move with the summation order.
+  /// 2-norm condition number of the solved matrix, set by run_case outside the timed solve
+  /// (dense SVD, systems up to kMaxConditionSize unknowns; NaN above). Wide Gaussian windows
+  /// make it huge: then the errors carry round-off and move with the summation order.
   double condition = 0;
 };
 

@@ -12,10 +12,15 @@
 namespace mfv {
 
 /// Solves K u = f with the essential conditions of `sys` imposed as the discretization says
-/// (Lagrange multipliers or penalty), by sparse LU; fills `info`. Throws SingularError with
-/// the cause when the system cannot be factorized or the solution is not finite.
+/// (Lagrange multipliers or penalty), by sparse LU; fills `info` except `condition`. Throws
+/// SingularError with the cause when the system cannot be factorized or the solution is not
+/// finite. When `solved` is given it receives the factorized matrix (for condition_number).
 Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretization& d,
-                                  SolveInfo& info);
+                                  SolveInfo& info, Eigen::SparseMatrix<double>* solved = nullptr);
+
+/// 2-norm condition number by dense SVD for up to kMaxConditionSize rows; NaN above, inf
+/// when the smallest singular value is zero.
+double condition_number(const Eigen::SparseMatrix<double>& A);
 
 /// Runs one case. Throws InputError on bad names or parameters, SingularError on a singular
 /// moment matrix or global system.
