@@ -17,6 +17,17 @@ Domain Domain::interval(double a, double b) {
   return d;
 }
 
+Domain Domain::rectangle(double x0, double y0, double x1, double y1) {
+  if (!(x1 > x0) || !(y1 > y0))
+    throw InputError(fmt::format("a rectangle needs x1 > x0 and y1 > y0, got [{}, {}] × [{}, {}]",
+                                 x0, x1, y0, y1));
+  Domain d;
+  d.dim = 2;
+  d.lower = Eigen::Vector2d(x0, y0);
+  d.upper = Eigen::Vector2d(x1, y1);
+  return d;
+}
+
 double Domain::measure() const { return (upper - lower).prod(); }
 
 Eigen::VectorXd voronoi_volumes_1d(const Eigen::VectorXd& x, double a, double b) {
@@ -53,6 +64,10 @@ ParticleSet uniform_line(const Domain& domain, int n, double perturbation, std::
   p.volume = voronoi_volumes_1d(x, a, b);
   p.dilation = Eigen::VectorXd::Constant(n, dx);
   p.spacing = dx;
+  p.lattice = Eigen::Vector2i(n, 1);
+  p.sides.assign(n, 0u);
+  p.sides.front() |= Side::left;
+  p.sides.back() |= Side::right;
   return p;
 }
 

@@ -12,7 +12,20 @@ struct Domain {
   int dim = 1;
   Eigen::VectorXd lower, upper;
   static Domain interval(double a, double b);
+  /// The rectangle [x0, x1] × [y0, y1].
+  static Domain rectangle(double x0, double y0, double x1, double y1);
   double measure() const;
+};
+
+/// Sides of a box, as bits of ParticleSet::sides: 1D uses left/right only.
+enum Side : unsigned { left = 1u, right = 2u, bottom = 4u, top = 8u };
+/// Side bit of index s = 0..3 (left, right, bottom, top).
+inline unsigned side_bit(int s) { return 1u << s; }
+
+/// Where a lattice puts its outermost particles (001 §6, Fig. 4).
+enum class Placement {
+  boundary,  ///< on the boundary (Fig. 4b): boundary particles get half, corners a quarter volume
+  inset      ///< half a spacing inside (Fig. 4a): all volumes equal
 };
 
 struct ParticleSet {
@@ -21,6 +34,13 @@ struct ParticleSet {
   Eigen::VectorXd volume;     ///< Voronoi volume ΔV_J (1D: half the distance to each neighbour)
   Eigen::VectorXd dilation;   ///< support scale a_J: the kernel argument is |x - x_J| / a_J
   double spacing = 0;         ///< nominal Δx of the lattice the set was built from
+  /// Particles per direction of a structured lattice (x fastest: J = i + nx·j), 0 when the
+  /// set is unstructured. Q4 elements and lattice cells read it.
+  Eigen::Vector2i lattice = Eigen::Vector2i::Zero();
+  Placement placement = Placement::boundary;
+  /// Bits of Side: the particle lies on (Placement::boundary) or is the layer nearest to
+  /// (Placement::inset) that side of the domain.
+  std::vector<unsigned> sides;
 
   int size() const { return static_cast<int>(x.cols()); }
 };
@@ -30,6 +50,37 @@ struct ParticleSet {
 /// volumes from the 1D Voronoi diagram (the trapezoidal rule of 004 II §6).
 ParticleSet uniform_line(const Domain& domain, int n, double perturbation = 0.0,
                          std::uint64_t seed = 1);
+
+/// An nx × ny lattice on a 2D rectangle, spacing (x1-x0)/(nx-1) by (y1-y0)/(ny-1) for
+/// Placement::boundary or (x1-x0)/nx by (y1-y0)/ny for inset. perturbation > 0 moves every
+/// particle by uniform random offsets of ±perturbation·Δ per direction (seeded,
+/// reproducible); boundary particles move only along their side and corners stay. Volumes:
+/// exact lattice cells when unperturbed (001 §6: half on sides, a quarter at corners),
+/// otherwise the Voronoi diagram clipped to the rectangle (voronoi_areas).
+ParticleSet rectangle_lattice(const Domain& domain, int nx, int ny, Placement placement,
+                              double perturbation = 0.0, std::uint64_t seed = 1);
+
+/// Areas of the Voronoi cells of 2D points, clipped to the rectangle `domain` (voro++); the
+/// areas sum to the rectangle's area. Every point must lie in the rectangle.
+Eigen::VectorXd voronoi_areas(const Eigen::MatrixXd& points, const Domain& domain);
+
+/// Where stress points go between the particles of a lattice (000 §4, Fig. 8).
+enum class StressPointLayout {
+  quad_centres,     ///< one at the centre of each lattice quadrilateral
+  triangle_centres  ///< two per quadrilateral: centroids of the triangles of its diagonal split
+};
+
+/// Stress points and the volumes of 001 eq 65: one Voronoi diagram of particles and stress
+/// points together, so Σ particle_volume + Σ volume = the domain's measure.
+struct StressPoints {
+  Eigen::MatrixXd x;                  ///< dim × N_S positions
+  Eigen::VectorXd volume;             ///< V^SP of each stress point
+  Eigen::VectorXd particle_volume;    ///< V^P of each particle in the joint diagram
+};
+
+/// Stress points of a lattice particle set (1D: interval midpoints; 2D: as `layout` says).
+StressPoints make_stress_points(const ParticleSet& particles, const Domain& domain,
+                                StressPointLayout layout = StressPointLayout::quad_centres);
 
 /// Recomputes 1D Voronoi volumes for sorted positions.
 Eigen::VectorXd voronoi_volumes_1d(const Eigen::VectorXd& sorted_x, double a, double b);

@@ -19,6 +19,9 @@ struct IntegrationRule {
   std::vector<int> cell;      ///< background cell (or owning particle) of each point
   int cells = 0;              ///< number of cells or stress points (reports)
   std::string kind;           ///< "nodal", "gauss-cells", "stress-points"
+  /// The first `nodal_points` points are the particles themselves, in particle order (nodal
+  /// and stress-point rules); point q < nodal_points is particle q.
+  int nodal_points = 0;
   int size() const { return static_cast<int>(weights.size()); }
 };
 
@@ -26,7 +29,17 @@ class IntegrationScheme {
  public:
   virtual ~IntegrationScheme() = default;
   virtual IntegrationRule rule(const Domain& domain, const ParticleSet& particles) const = 0;
+  /// A rule on one side of the domain (side index s: 0 left, 1 right, 2 bottom, 3 top) for
+  /// traction integrals, consistent with the domain rule: nodal rules sample the particles of
+  /// that side (weights: their share of the side, 001 eq 61's Γ_J; `cell` is the particle),
+  /// cell rules put Gauss points on the side's segments. 1D: one point of weight 1.
+  virtual IntegrationRule boundary_rule(const Domain& domain, const ParticleSet& particles,
+                                        int side) const;
 };
+
+/// The nodal boundary rule: particles flagged on `side`, projected onto it, weighted by half
+/// the distance to their neighbours along the side (the rectangle's Voronoi edge lengths).
+IntegrationRule nodal_boundary_rule(const Domain& domain, const ParticleSet& particles, int side);
 
 using IntegrationRegistry = Registry<IntegrationScheme>;
 

@@ -103,7 +103,7 @@ class GaussCells final : public IntegrationScheme {
   int n_, cells_;
 };
 
-class StressPoints final : public IntegrationScheme {
+class StressPointIntegration final : public IntegrationScheme {
  public:
   IntegrationRule rule(const Domain& d, const ParticleSet& p) const override {
     // 1D: one stress point at each interval midpoint, weighted by the interval (000 §2.4).
@@ -141,7 +141,17 @@ void register_gauss_cells(IntegrationRegistry& r) {
 void register_stress_points(IntegrationRegistry& r) {
   r.add("stress-points", "stress points at cell centres, weights from the Voronoi/cell measure "
                          "(000 §2.4, 001 §5.2)",
-        {}, [](const Params&) { return std::make_unique<StressPoints>(); });
+        {}, [](const Params&) { return std::make_unique<StressPointIntegration>(); });
 }
 
+}  // namespace mfv
+
+namespace mfv {
+IntegrationRule IntegrationScheme::boundary_rule(const Domain& domain, const ParticleSet& particles,
+                                                 int side) const {
+  return nodal_boundary_rule(domain, particles, side);
+}
+IntegrationRule nodal_boundary_rule(const Domain&, const ParticleSet&, int) {
+  throw std::logic_error("nodal_boundary_rule: not yet implemented");
+}
 }  // namespace mfv
