@@ -67,4 +67,16 @@ class LinearElementApproximation final : public Approximation {
   int reproduction_order() const override { return 1; }
 };
 
+/// Bilinear (Q4) elements on a 2D particle lattice: element (i, j) has the particles
+/// (i,j), (i+1,j), (i+1,j+1), (i,j+1) (J = i + nx·j) as nodes, perturbed lattices give general
+/// convex quadrilaterals, mapped isoparametrically from [-1, 1]².
+class BilinearElementApproximation final : public Approximation {
+ public:
+  ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                      int order) const override;
+  int minimum_support_count(int) const override { return 4; }
+  bool interpolating() const override { return true; }
+  int reproduction_order() const override { return 1; }
+};
+
 }  // namespace mfv

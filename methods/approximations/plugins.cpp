@@ -17,6 +17,25 @@ std::unique_ptr<Approximation> corrected(const KernelRegistry& k, const Params& 
   return std::make_unique<CorrectedKernelApproximation>(std::move(w), o, name);
 }
 
+/// "linear-fe" in either dimension: the particles' dimension picks 1D hats or 2D Q4.
+class LinearFiniteElements final : public Approximation {
+ public:
+  ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                      int order) const override {
+    return particles.dim == 2 ? q4_.evaluate(particles, points, order)
+                              : hats_.evaluate(particles, points, order);
+  }
+  int minimum_support_count(int dim) const override {
+    return dim == 2 ? q4_.minimum_support_count(dim) : hats_.minimum_support_count(dim);
+  }
+  bool interpolating() const override { return true; }
+  int reproduction_order() const override { return 1; }
+
+ private:
+  LinearElementApproximation hats_;
+  BilinearElementApproximation q4_;
+};
+
 }  // namespace
 
 void register_shepard(ApproximationRegistry& r, const KernelRegistry& k) {
@@ -68,8 +87,10 @@ void register_sph_approximation(ApproximationRegistry& r, const KernelRegistry& 
 }
 
 void register_linear_elements(ApproximationRegistry& r, const KernelRegistry&) {
-  r.add("linear-fe", "piecewise-linear finite element hat functions on the particles (1D)", {},
-        [](const Params&) { return std::make_unique<LinearElementApproximation>(); });
+  r.add("linear-fe",
+        "linear finite elements on the particles: hat functions in 1D, bilinear Q4 on a 2D "
+        "lattice",
+        {}, [](const Params&) { return std::make_unique<LinearFiniteElements>(); });
 }
 
 }  // namespace mfv
