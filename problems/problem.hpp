@@ -1,6 +1,8 @@
 /// Problems of the catalogue: domain, weak form, exact solution and the published values
 /// the reports print beside ours. One file per catalogue entry.
 #pragma once
+#include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -11,16 +13,22 @@
 #include <Eigen/Sparse>
 
 #include "methods/core/registry.hpp"
+#include "methods/materials/linear_elastic.hpp"
 #include "methods/methods/method.hpp"
 
 namespace mfv {
 
 /// A linear system from a weak form, with essential conditions u(x_b) = g_b still to impose.
 struct AssembledSystem {
-  Eigen::SparseMatrix<double> K;
+  Eigen::SparseMatrix<double> K;      ///< unknowns interleaved: (u_x, u_y) of particle 0, ...
   Eigen::VectorXd f;
+  int components = 1;                 ///< field components per particle
   Eigen::MatrixXd constraint_points;  ///< dim × nb
   Eigen::VectorXd constraint_values;  ///< g_b
+  std::vector<int> constraint_components;  ///< component of each constraint (empty: all 0)
+  /// The particle at each constraint point, for methods whose unknowns are particle values
+  /// (empty when the points are not particles).
+  std::vector<int> constraint_particles;
 };
 
 /// A value printed in a paper, with what it must be matched against.
@@ -34,6 +42,30 @@ struct PublishedValue {
   std::string note;       ///< e.g. "norm not stated"
 };
 
+/// One refinement study as the findings see it (built by the reports from a StudyResult).
+struct StudySummary {
+  std::string method;            ///< registered name
+  std::string label;             ///< "sph radius=4.5"
+  Params params;                 ///< as given (unresolved)
+  int finest_nodes = 0, finest_particles = 0, resolutions = 0;
+  double l2_rate = NAN, energy_rate = NAN;          ///< common rule
+  double l2_rel_finest = NAN, energy_rel_finest = NAN;
+};
+
+/// What a finding says about our run.
+struct Verdict {
+  std::string status;  ///< "reproduced", "not reproduced", "partly", "not run"
+  std::string ours;    ///< the measured numbers behind it
+};
+
+/// A qualitative statement of a paper, checked against our studies by `check`.
+struct Finding {
+  std::string source;  ///< "001 §9.1"
+  std::string claim;
+  std::string criterion;  ///< how we decide, printed beside the verdict
+  std::function<Verdict(const std::vector<StudySummary>&)> check;
+};
+
 /// Resolutions per suite level.
 enum class Level { quick, standard, full };
 
@@ -43,8 +75,36 @@ class Problem {
   virtual Domain domain() const = 0;
   /// Highest derivative of the shape functions the weak form needs.
   virtual int derivative_order() const { return 1; }
-  /// Exact solution and its derivative at the columns of x (scalar field, 1D).
-  virtual void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const = 0;
+  /// Exact solution and its derivative at the columns of x (scalar field, 1D problems).
+  virtual void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const {
+    throw std::logic_error("this problem has a vector field: use exact_field");
+  }
+  /// Field components per particle (1 scalar, 2 for 2D displacements).
+  virtual int components() const { return 1; }
+  /// Exact field (components × n) and gradient (components·dim × n; row c·dim + d holds
+  /// ∂u_c/∂x_d) at the columns of x. The default wraps the scalar `exact`.
+  virtual void exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
+                           Eigen::MatrixXd& grad) const;
+  /// The particles of resolution `nodes` (1D: nodes on the line; 2D problems say what it
+  /// counts), perturbed by `perturbation` of the spacing.
+  virtual ParticleSet particles(int nodes, double perturbation) const;
+  /// Energy density σ(∇v):ε(∇v) of gradient columns (the energy norm's integrand, 001 eq 74);
+  /// the default |∇v|² is the H1 seminorm's (unit diffusion).
+  virtual Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const {
+    return grad.colwise().squaredNorm().transpose();
+  }
+  /// Stress (flux) of gradient columns and the names of its rows, for VTK files.
+  virtual Eigen::MatrixXd flux(const Eigen::MatrixXd& grad) const { return grad; }
+  virtual std::vector<std::string> flux_names() const { return {"du"}; }
+  /// The rule of the common error norms at a resolution (the same for every method).
+  virtual IntegrationRule common_error_rule(const ParticleSet& particles) const;
+  /// true: the "paper" errors are integrated with each method's own quadrature, values and
+  /// gradients (001 §9.1); false: the paper's Gauss points between particles (004 II §7).
+  virtual bool errors_on_method_rule() const { return false; }
+  /// Published qualitative findings, each with the check that gives our verdict.
+  virtual std::vector<Finding> findings() const { return {}; }
+  /// What `nodes` counts, for reports ("nodes", "particles across the depth").
+  virtual std::string resolution_name() const { return "nodes"; }
   virtual AssembledSystem assemble(const Discretization& d) const = 0;
   /// Node counts of a refinement study.
   virtual std::vector<int> resolutions(Level level) const = 0;
@@ -67,12 +127,33 @@ using ProblemRegistry = Registry<Problem>;
 
 void register_laplace_tanh(ProblemRegistry&);
 void register_advection_diffusion(ProblemRegistry&);
+void register_cantilever(ProblemRegistry&);
+void register_elastic_patch(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
   register_laplace_tanh(r);
   register_advection_diffusion(r);
+  register_cantilever(r);
+  register_elastic_patch(r);
 }
+
+/// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,
+/// prescribed displacements on sides (001 eqs 44–50 in the static, linear case).
+struct ElasticityBVP {
+  LinearElastic material;
+  /// Traction t(x) (2 × n from 2 × n points) per loaded side (0 left, 1 right, 2 bottom, 3 top).
+  std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> tractions;
+  /// Prescribed displacement u(x) (2 × n) per clamped side.
+  std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> displacements;
+};
+/// K = Σ_q w_q B^test(x_q)ᵀ D B^trial(x_q) from the method's gradient tables (any of 001
+/// Table 1's methods), f from the tractions on the method's boundary rule, and the
+/// constraints at the boundary particles' points (or the particles, for particle values).
+AssembledSystem assemble_elasticity(const Discretization& d, const ElasticityBVP& bvp);
+/// Gradient rows (∂u_x/∂x, ∂u_x/∂y, ∂u_y/∂x, ∂u_y/∂y) of an interleaved 2D field on a table.
+Eigen::MatrixXd table_gradient_2d(const ShapeTable& t, const Eigen::VectorXd& u);
+Eigen::MatrixXd table_values_2d(const ShapeTable& t, const Eigen::VectorXd& u);
 
 /// Shared 1D assembly of ∫ (k w' u' + c w u' + τ R(w) R(u)) - ∫ w f (+ τ R(w) f) used by both
 /// 1D problems; R(v) = -v'' + c v' is the residual operator of the stabilized form (004 I eq 6.3).

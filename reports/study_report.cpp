@@ -96,6 +96,9 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   namespace fs = std::filesystem;
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
   const std::string title = section_title(section);
+  if (!section.studies.empty() && !section.studies.front().cases.empty() &&
+      section.studies.front().cases.front().components > 1)
+    return write_elasticity_section(catalogue, section, title, dir, vtk);
   const std::string base = slug(title);
   std::string md = fmt::format("## {}\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);

@@ -38,6 +38,14 @@ struct PublishedComparison {
 std::vector<PublishedComparison> compare_published(const Problem& problem,
                                                    const std::vector<StudyResult>& studies);
 
+/// Summaries of studies for a problem's findings (finest case, rates on the common rule).
+std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies);
+
+/// The section of a 2D (vector) problem; write_problem_section dispatches to it.
+std::string write_elasticity_section(const Catalogue& catalogue, const ReportSection& section,
+                                     const std::string& title, const std::filesystem::path& dir,
+                                     bool vtk);
+
 /// Writes plots under `dir`/plots and VTK files under `dir`/vtk (when `vtk`), and returns the
 /// section's Markdown with links relative to `dir`.
 std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,

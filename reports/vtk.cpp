@@ -101,7 +101,81 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
+/// Points (x, y, 0) from a dim × n matrix.
+void set_points_2d(vtkPolyData* pd, const Eigen::MatrixXd& x) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(to_id(x.cols()));
+  for (Eigen::Index i = 0; i < x.cols(); ++i)
+    points->SetPoint(to_id(i), x(0, i), x.rows() > 1 ? x(1, i) : 0.0, 0.0);
+  pd->SetPoints(points);
+  vtkNew<vtkCellArray> verts;
+  for (Eigen::Index i = 0; i < x.cols(); ++i) {
+    const vtkIdType id = to_id(i);
+    verts->InsertNextCell(1, &id);
+  }
+  pd->SetVerts(verts);
+}
+
+/// Adds the columns of `m` (rows = components, padded to `width`) as a vector array.
+void add_vector_array(vtkPolyData* pd, const char* name, const Eigen::MatrixXd& m, int width,
+                      const fs::path& path) {
+  if (m.size() == 0) return;
+  if (to_id(m.cols()) != pd->GetNumberOfPoints())
+    throw std::invalid_argument(fmt::format("cannot write '{}': field '{}' has {} columns for {} "
+                                            "points",
+                                            path.string(), name, m.cols(),
+                                            pd->GetNumberOfPoints()));
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(width);
+  a->SetNumberOfTuples(to_id(m.cols()));
+  for (Eigen::Index i = 0; i < m.cols(); ++i)
+    for (int c = 0; c < width; ++c)
+      a->SetComponent(to_id(i), c, c < m.rows() ? m(c, i) : 0.0);
+  pd->GetPointData()->AddArray(a);
+}
+
 }  // namespace
+
+void write_particles_vtp(const fs::path& path, const CaseResult& r) {
+  const CaseFields& f = r.fields;
+  if (f.points.size() == 0)
+    throw std::invalid_argument(fmt::format("cannot write '{}': the case has no 2D particle "
+                                            "fields",
+                                            path.string()));
+  vtkNew<vtkPolyData> pd;
+  set_points_2d(pd, f.points);
+  add_vector_array(pd, "displacement", f.disp_h, 3, path);
+  add_vector_array(pd, "displacement_exact", f.disp_exact, 3, path);
+  add_vector_array(pd, "displacement_error", f.disp_h - f.disp_exact, 3, path);
+  add_vector_array(pd, "stress", f.stress_h, 3, path);
+  add_vector_array(pd, "stress_exact", f.stress_exact, 3, path);
+  add_vector_array(pd, "stress_error", f.stress_h - f.stress_exact, 3, path);
+  add_point_array(pd, "volume", f.volume, path);
+  add_field_data(pd, r);
+  write_polydata(path, pd);
+}
+
+void write_quadrature_vtp(const fs::path& path, const CaseResult& r) {
+  const CaseFields& f = r.fields;
+  if (f.q_points.size() == 0)
+    throw std::invalid_argument(fmt::format("cannot write '{}': the case has no quadrature "
+                                            "fields",
+                                            path.string()));
+  vtkNew<vtkPolyData> pd;
+  set_points_2d(pd, f.q_points);
+  add_vector_array(pd, "stress", f.q_stress_h, 3, path);
+  add_vector_array(pd, "stress_exact", f.q_stress_exact, 3, path);
+  add_vector_array(pd, "stress_error", f.q_stress_h - f.q_stress_exact, 3, path);
+  Eigen::VectorXd is_particle = Eigen::VectorXd::Zero(f.q_points.cols());
+  const Eigen::Index np =
+      r.quadrature_kind == "gauss-cells" ? 0 : std::min<Eigen::Index>(r.particles, f.q_points.cols());
+  is_particle.head(np).setOnes();
+  add_point_array(pd, "is_particle", is_particle, path);
+  add_field_data(pd, r);
+  write_polydata(path, pd);
+}
 
 void write_case_vtp(const fs::path& path, const CaseResult& r) {
   const auto& f = r.fields;

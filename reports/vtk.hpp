@@ -22,6 +22,17 @@ void write_case_vtp(const std::filesystem::path& path, const CaseResult& r);
 /// there is no sampling (fewer than 2 points) or its arrays differ in length.
 void write_line_vtp(const std::filesystem::path& path, const CaseResult& r);
 
+/// 2D cases: one vertex per particle at (x, y, 0) with point data "displacement",
+/// "displacement_exact", "displacement_error" (3-vectors, z = 0, so ParaView can warp by
+/// them), "stress", "stress_exact", "stress_error" (Voigt xx, yy, xy), "volume", and field
+/// data "h" and "nodes". Throws std::invalid_argument if the case has no 2D fields.
+void write_particles_vtp(const std::filesystem::path& path, const CaseResult& r);
+
+/// 2D cases: one vertex per quadrature point of the method (particles first for nodal and
+/// stress-point rules, then stress points or Gauss points) with "stress", "stress_exact",
+/// "stress_error" and "is_particle".
+void write_quadrature_vtp(const std::filesystem::path& path, const CaseResult& r);
+
 /// A ParaView collection (.pvd) of (timestep, file) entries, file names relative to the
 /// .pvd's directory. Entries sharing a timestep become parts 0, 1, ... of it, so a
 /// particle file and a line file can be shown together. Written atomically.

@@ -1,6 +1,7 @@
 /// Results of one case (problem × method × resolution) and of a refinement study: what the
 /// runner computes and what reports, baselines and bands read.
 #pragma once
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -16,6 +17,9 @@ struct ErrorNorms {
   double l2 = 0, l2_rel = 0;            ///< ‖e‖_L2
   double h1_semi = 0, h1_semi_rel = 0;  ///< ‖e'‖_L2 (the paper's "H1 norm")
   double h1 = 0, h1_rel = 0;            ///< full H1: sqrt(‖e‖² + ‖e'‖²)
+  /// Energy norm sqrt(∫ σ(e):ε(e)) (001 eqs 73–74 with the customary square root; in 1D
+  /// the H1 seminorm).
+  double energy = 0, energy_rel = 0;
 };
 
 /// CPU seconds of the phases of one case.
@@ -29,9 +33,12 @@ struct Timings {
 inline constexpr int kMaxConditionSize = 1200;
 
 struct SolveInfo {
-  std::string solver;     ///< e.g. "SparseLU"
+  std::string solver;     ///< e.g. "UMFPACK LU", or the fallback taken
   int unknowns = 0;
   long nonzeros = 0;      ///< of the system matrix
+  long fill = 0;          ///< nonzeros of the L and U factors (direct solves)
+  double rcond = NAN;     ///< UMFPACK's reciprocal condition estimate (any size; cheap)
+  int iterations = 0;     ///< iterative solves
   double residual = 0;    ///< ‖A x - b‖ / ‖b‖
   /// 2-norm condition number of the solved matrix, set by run_case outside the timed solve
   /// (dense SVD, systems up to kMaxConditionSize unknowns; NaN above). Wide Gaussian windows
@@ -47,6 +54,7 @@ struct CaseSpec {
   Params method_params;  ///< as given (unresolved); the resolved set is in CaseResult
   int nodes = 0;
   double perturbation = 0;  ///< random particle offsets, fraction of the spacing
+  std::string solver = "auto";  ///< see kSolverChoices (verify/solver.hpp)
 };
 
 /// Sampled fields for VTK files and plots.
@@ -57,6 +65,12 @@ struct CaseFields {
   Eigen::VectorXd coefficient;    ///< the solved particle coefficients u_J
   Eigen::VectorXd volume;         ///< particle volumes
   Eigen::VectorXd sx, su_h, su, sdu_h, sdu;  ///< a dense sampling of the line
+  /// 2D problems: particle positions (dim × N), displacement and stress (Voigt) computed and
+  /// exact at the particles; the same stresses at the method's own quadrature points (stress
+  /// points, Gauss points), whose first `nodal_points` are the particles.
+  Eigen::MatrixXd points, disp_h, disp_exact, stress_h, stress_exact;
+  Eigen::MatrixXd q_points, q_stress_h, q_stress_exact;
+  std::vector<std::string> stress_names;
 };
 
 struct CaseResult {
@@ -64,7 +78,10 @@ struct CaseResult {
   Params method_params;            ///< resolved, with defaults
   std::string method_description;  ///< human-readable composition
   double h = 0;                    ///< nominal spacing Δx
+  int dim = 1, components = 1;
   int particles = 0, quadrature_points = 0, cells = 0;
+  int stress_points = 0;           ///< quadrature points that are not particles (stress points)
+  std::string quadrature_kind;     ///< nodal, gauss-cells, stress-points
   ErrorNorms errors;               ///< on a common fine Gauss rule, independent of the method
   ErrorNorms errors_paper;         ///< on the paper's rule (Gauss points per cell between nodes)
   std::map<std::string, double> headline;
@@ -76,8 +93,8 @@ struct CaseResult {
 /// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the
 /// slope between each pair of successive resolutions.
 struct Rates {
-  double l2 = 0, h1_semi = 0;
-  std::vector<double> l2_pairwise, h1_semi_pairwise;
+  double l2 = 0, h1_semi = 0, energy = 0;
+  std::vector<double> l2_pairwise, h1_semi_pairwise, energy_pairwise;
 };
 
 struct StudyResult {

@@ -30,17 +30,20 @@ IntegrationRule paper_error_rule(const Domain& domain, const ParticleSet& partic
   return r;
 }
 
-ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
-                       const IntegrationRule& rule) {
-  const ShapeTable t = d.trial_at(rule.points, 1);
-  const Eigen::VectorXd uh = t.interpolate(u), duh = t.interpolate_derivative(u);
-  Eigen::VectorXd ue, due;
-  problem.exact(rule.points, ue, due);
+namespace {
+
+/// Norms of the differences between computed and exact values and gradients on a rule.
+ErrorNorms norms_from(const Problem& problem, const IntegrationRule& rule, const Eigen::MatrixXd& uh,
+                      const Eigen::MatrixXd& gh) {
+  Eigen::MatrixXd ue, ge;
+  problem.exact_field(rule.points, ue, ge);
   const Eigen::VectorXd& w = rule.weights;
-  const double e0 = std::sqrt(w.dot((uh - ue).cwiseAbs2()));
-  const double e1 = std::sqrt(w.dot((duh - due).cwiseAbs2()));
-  const double n0 = std::sqrt(w.dot(ue.cwiseAbs2()));
-  const double n1 = std::sqrt(w.dot(due.cwiseAbs2()));
+  const double e0 = std::sqrt(w.dot((uh - ue).colwise().squaredNorm().transpose()));
+  const double e1 = std::sqrt(w.dot((gh - ge).colwise().squaredNorm().transpose()));
+  const double n0 = std::sqrt(w.dot(ue.colwise().squaredNorm().transpose()));
+  const double n1 = std::sqrt(w.dot(ge.colwise().squaredNorm().transpose()));
+  const double ee = std::sqrt(std::max(0.0, w.dot(problem.energy_density(gh - ge))));
+  const double ne = std::sqrt(std::max(0.0, w.dot(problem.energy_density(ge))));
   ErrorNorms e;
   e.l2 = e0;
   e.h1_semi = e1;
@@ -48,7 +51,46 @@ ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Ei
   e.l2_rel = n0 > 0 ? e0 / n0 : NAN;
   e.h1_semi_rel = n1 > 0 ? e1 / n1 : NAN;
   e.h1_rel = std::hypot(n0, n1) > 0 ? e.h1 / std::hypot(n0, n1) : NAN;
+  e.energy = ee;
+  e.energy_rel = ne > 0 ? ee / ne : NAN;
   return e;
+}
+
+/// Values (components × nq) and gradients (components·dim × nq) of interleaved unknowns.
+void field_on(const ShapeTable& t, const Eigen::VectorXd& u, int nc, Eigen::MatrixXd& v,
+              Eigen::MatrixXd& g) {
+  const int dim = t.dim;
+  v = Eigen::MatrixXd::Zero(nc, t.points());
+  g = Eigen::MatrixXd::Zero(nc * dim, t.points());
+  for (int q = 0; q < t.points(); ++q)
+    for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
+      for (int c = 0; c < nc; ++c) {
+        const double uj = u[t.index[k] * nc + c];
+        v(c, q) += t.value[k] * uj;
+        if (!t.grad.empty())
+          for (int d = 0; d < dim; ++d) g(c * dim + d, q) += t.grad[k * dim + d] * uj;
+      }
+}
+
+}  // namespace
+
+ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
+                       const IntegrationRule& rule) {
+  Eigen::MatrixXd uh, gh;
+  field_on(d.trial_at(rule.points, 1), u, problem.components(), uh, gh);
+  return norms_from(problem, rule, uh, gh);
+}
+
+ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
+                                   const Eigen::VectorXd& u) {
+  Eigen::MatrixXd uh, gh;
+  field_on(d.trial_q, u, problem.components(), uh, gh);
+  return norms_from(problem, d.quadrature, uh, gh);
+}
+
+void field_values(const ShapeTable& t, const Eigen::VectorXd& u, int components,
+                  Eigen::MatrixXd& values, Eigen::MatrixXd& gradients) {
+  field_on(t, u, components, values, gradients);
 }
 
 double fitted_rate(const std::vector<double>& h, const std::vector<double>& e) {
@@ -72,18 +114,21 @@ std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vect
 }
 
 Rates study_rates(const std::vector<CaseResult>& cases, bool paper_rule) {
-  std::vector<double> h, l2, h1;
+  std::vector<double> h, l2, h1, en;
   for (const auto& c : cases) {
     const ErrorNorms& e = paper_rule ? c.errors_paper : c.errors;
     h.push_back(c.h);
     l2.push_back(e.l2);
     h1.push_back(e.h1_semi);
+    en.push_back(e.energy);
   }
   Rates r;
   r.l2 = fitted_rate(h, l2);
   r.h1_semi = fitted_rate(h, h1);
+  r.energy = fitted_rate(h, en);
   r.l2_pairwise = pairwise_rates(h, l2);
   r.h1_semi_pairwise = pairwise_rates(h, h1);
+  r.energy_pairwise = pairwise_rates(h, en);
   return r;
 }
 

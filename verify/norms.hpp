@@ -15,8 +15,17 @@ IntegrationRule common_error_rule(const Domain& domain, int nodes);
 /// The paper's rule: `points` Gauss points in every interval between neighbouring particles.
 IntegrationRule paper_error_rule(const Domain& domain, const ParticleSet& particles, int points);
 
+/// Errors of the trial field on `rule` (any number of components; energy from the problem).
 ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
                        const IntegrationRule& rule);
+/// Errors on the method's own quadrature with its own values and gradients (001 §9.1: "by the
+/// procedure that is used to evaluate the nodal forces").
+ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
+                                   const Eigen::VectorXd& u);
+/// Values (components × points) and gradients (components·dim × points) of interleaved
+/// unknowns on a table.
+void field_values(const ShapeTable& t, const Eigen::VectorXd& u, int components,
+                  Eigen::MatrixXd& values, Eigen::MatrixXd& gradients);
 
 /// Least-squares slope of ln e against ln h (GSL gsl_fit_linear); NaN with fewer than two
 /// usable (positive, finite) points.

@@ -48,6 +48,8 @@ void gauss_legendre(int n, double a, double b, std::vector<double>& x, std::vect
 
 /// Gauss rule over [a, b] split into `cells` equal cells with n points each (error norms).
 IntegrationRule uniform_gauss_rule_1d(double a, double b, int cells, int n);
+/// n×n Gauss per cell on a uniform cx × cy grid of a 2D box (error norms).
+IntegrationRule uniform_gauss_rule_2d(const Domain& box, int cx, int cy, int n);
 
 void register_nodal(IntegrationRegistry&);
 void register_gauss_cells(IntegrationRegistry&);

@@ -34,3 +34,54 @@ void register_efg(MethodRegistry& r, const MethodParts& parts) {
 }
 
 }  // namespace mfv
+
+namespace mfv {
+
+namespace {
+
+void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std::string& name,
+                          const std::string& integration) {
+  ParamSchema s = particle_method_schema(parts.kernels, true);
+  if (integration == "gauss-cells")
+    s.push_back(ParamSpec::count("nq", 0, 0,
+                                 "Gauss points per cell and direction; 0: n_Q = sqrt(m) + 2 "
+                                 "with m particles in the cell (001 eq 66)"));
+  r.add(name,
+        fmt::format("element-free Galerkin, MLS linear basis (001 eqs 37-43), {} (001 Table 1 "
+                    "row EFG {})",
+                    integration == "nodal" ? "nodal integration" : "Gauss cells",
+                    integration == "nodal" ? "ni" : "ci"),
+        s, [parts, integration](const Params& p) {
+          GalerkinRecipe g;
+          Params a;
+          a.set("kernel", p.text("kernel").c_str());
+          g.trial = parts.approximations.create("mls", a);
+          Params q;
+          if (integration == "gauss-cells") q.set("nq", p.number("nq"));
+          g.integration = parts.integrations.create(integration, q);
+          set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
+          g.essential = essential_from(p);
+          g.penalty = p.number("penalty");
+          g.description = fmt::format(
+              "EFG: MLS linear, {} kernel, support {}, {}, bc={}", p.text("kernel"),
+              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
+                                     : fmt::format("{} dx", p.number("dmax")),
+              integration == "nodal" ? "nodal integration"
+              : p.integer("nq") > 0  ? fmt::format("{0}x{0} Gauss per cell", p.integer("nq"))
+                                     : "Gauss cells with n_Q = sqrt(m)+2",
+              p.text("bc"));
+          return make_galerkin_method(std::move(g));
+        });
+}
+
+}  // namespace
+
+void register_efg_ni(MethodRegistry& r, const MethodParts& parts) {
+  register_efg_variant(r, parts, "efg-ni", "nodal");
+}
+
+void register_efg_ci(MethodRegistry& r, const MethodParts& parts) {
+  register_efg_variant(r, parts, "efg-ci", "gauss-cells");
+}
+
+}  // namespace mfv

@@ -31,6 +31,26 @@ ShapeTable Discretization::trial_at(const Eigen::MatrixXd& points, int order) co
   return trial->evaluate(particles, points, order);
 }
 
+IntegrationRule Discretization::boundary_rule(int side) const {
+  if (!integration) throw std::logic_error("discretization without an integration scheme");
+  return integration->boundary_rule(domain, particles, side);
+}
+
+ShapeTable Discretization::test_on(const IntegrationRule& b) const {
+  if (!particle_values) return test->evaluate(particles, b.points, 0);
+  ShapeTable t;
+  t.dim = particles.dim;
+  for (int q = 0; q < b.size(); ++q) {
+    if (b.cell.size() != static_cast<std::size_t>(b.size()) || b.cell[q] < 0 ||
+        b.cell[q] >= particles.size())
+      throw std::logic_error("a boundary rule for a particle method must name its particles");
+    t.index.push_back(b.cell[q]);
+    t.value.push_back(1.0);
+    t.offsets.push_back(t.entries());
+  }
+  return t;
+}
+
 namespace {
 
 class GalerkinMethod final : public Method {
@@ -43,8 +63,11 @@ class GalerkinMethod final : public Method {
                                    "nodes",
                                    particles.size(),
                                    r_.trial->minimum_support_count(particles.dim) + 1));
-    particles.dilation.setConstant(r_.dilation_over_spacing * particles.spacing);
+    particles.dilation.setConstant(r_.dilation > 0 ? r_.dilation
+                                                   : r_.dilation_over_spacing * particles.spacing);
     Discretization d;
+    d.domain = domain;
+    d.integration = r_.integration;
     d.quadrature = r_.integration->rule(domain, particles);
     d.trial = r_.trial;
     d.test = r_.test ? r_.test : r_.trial;
@@ -62,10 +85,64 @@ class GalerkinMethod final : public Method {
   GalerkinRecipe r_;
 };
 
+class ParticleMethod final : public Method {
+ public:
+  explicit ParticleMethod(ParticleRecipe r) : r_(std::move(r)) {}
+
+  Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
+    particles.dilation.setConstant(r_.dilation > 0 ? r_.dilation
+                                                   : r_.dilation_over_spacing * particles.spacing);
+    Discretization d;
+    d.domain = domain;
+    d.integration = r_.integration;
+    d.quadrature = r_.integration->rule(domain, particles);
+    d.essential = r_.essential;
+    d.penalty = r_.penalty;
+    d.description = r_.description;
+    d.particles = std::move(particles);
+    r_.build(d, order);
+    return d;
+  }
+
+ private:
+  ParticleRecipe r_;
+};
+
 }  // namespace
 
 std::unique_ptr<Method> make_galerkin_method(GalerkinRecipe recipe) {
   return std::make_unique<GalerkinMethod>(std::move(recipe));
+}
+
+std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe) {
+  return std::make_unique<ParticleMethod>(std::move(recipe));
+}
+
+ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice) {
+  ParamSchema s{
+      ParamSpec::choice("kernel", "cubic-spline", kernels.keys(), "kernel W (001 eq 14)"),
+      ParamSpec::positive("dmax", 2.4, "support radius over particle spacing"),
+      ParamSpec::number("radius", 0.0,
+                        "fixed support radius (length units) for every resolution, 001 Fig. 7; "
+                        "0: dmax times the spacing"),
+  };
+  if (essential_choice) {
+    s.push_back(ParamSpec::choice("bc", "lagrange", {"lagrange", "penalty"},
+                                  "essential boundary conditions on the MLS trial functions: "
+                                  "Lagrange multipliers or penalty"));
+    s.push_back(ParamSpec::positive("penalty", 1e8,
+                                    "penalty factor relative to the largest stiffness entry"));
+  }
+  return s;
+}
+
+void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,
+                           double& absolute) {
+  const double support = kernels.create(p.text("kernel"))->support();
+  over_spacing = p.number("dmax") / support;
+  if (p.number("radius") < 0)
+    throw InputError(fmt::format("parameter 'radius' must be >= 0, got {}", p.number("radius")));
+  absolute = p.number("radius") > 0 ? p.number("radius") / support : 0.0;
 }
 
 ParamSchema common_galerkin_schema(int default_gauss_points) {

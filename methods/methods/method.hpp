@@ -4,6 +4,7 @@
 /// assembled from fluxes (stresses). Static solvers, explicit dynamics and stability analyses
 /// all go through these two, so a method plugs into every analysis at once.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -12,6 +13,7 @@
 #include "methods/approximations/approximation.hpp"
 #include "methods/core/registry.hpp"
 #include "methods/integration/integration.hpp"
+#include "methods/kernels/register.hpp"
 #include "methods/particles.hpp"
 
 namespace mfv {
@@ -37,14 +39,27 @@ struct Discretization {
   EssentialBC essential = EssentialBC::lagrange;
   double penalty = 1e8;       ///< penalty factor relative to the stiffness diagonal
   std::string description;    ///< resolved components, printed in reports
+  /// The unknowns are the particle displacements themselves (SPH, RLM: collocation on the
+  /// particles): essential conditions fix them directly, tractions act on the particles of
+  /// the loaded side, and the method's own values at a particle are its unknowns.
+  bool particle_values = false;
+  Domain domain;
+  std::shared_ptr<const IntegrationScheme> integration;  ///< for boundary rules
 
   /// Σ_J ∂N_J/∂x (x_q) u_J at every quadrature point: dim rows × nq (for a scalar field:
   /// the field gradient; for a vector field applied per component, the deformation gradient).
   Eigen::MatrixXd gradient(const Eigen::VectorXd& u) const;
   /// f_I = Σ_q w_q ∂N^test_I/∂x (x_q) · flux_q: the internal force from fluxes/stresses.
   Eigen::VectorXd internal_force(const Eigen::MatrixXd& flux) const;
-  /// Values of the trial field at arbitrary points (errors, plots, VTK).
+  /// Values of the trial field at arbitrary points (errors, plots, VTK). For particle_values
+  /// methods this is a reconstruction (see the method's description), not the method itself.
   ShapeTable trial_at(const Eigen::MatrixXd& points, int order) const;
+  /// The integration scheme's rule on side s of the domain (tractions), consistent with the
+  /// domain rule.
+  IntegrationRule boundary_rule(int side) const;
+  /// Test function values on a boundary rule: the test approximation there, or δ at the
+  /// rule's particles (`cell`) for particle_values methods.
+  ShapeTable test_on(const IntegrationRule& boundary) const;
 };
 
 class Method {
@@ -64,6 +79,7 @@ struct GalerkinRecipe {
   std::shared_ptr<const Approximation> test;  ///< null: Bubnov–Galerkin
   std::shared_ptr<const IntegrationScheme> integration;
   double dilation_over_spacing = 1.0;  ///< a_J = this × Δx
+  double dilation = 0;                 ///< when > 0: a_J = this, whatever Δx (001 Fig. 7)
   EssentialBC essential = EssentialBC::lagrange;
   double penalty = 1e8;
   std::string description;
@@ -74,5 +90,29 @@ std::unique_ptr<Method> make_galerkin_method(GalerkinRecipe recipe);
 /// Parameters every Galerkin method shares: boundary enforcement and quadrature.
 ParamSchema common_galerkin_schema(int default_gauss_points);
 EssentialBC essential_from(const Params& p);
+
+/// Builds the tables of a method whose operators are not plain shape functions at a rule
+/// (SPH, RLM, KBM): given the particles (dilations set) and the rule, fills trial_q, test_q,
+/// trial, test, form and particle_values of the discretization.
+using TableBuilder = std::function<void(Discretization&, int order)>;
+
+/// A particle method of 001 Table 1: dilation rule, integration scheme and table builder.
+struct ParticleRecipe {
+  std::shared_ptr<const IntegrationScheme> integration;
+  double dilation_over_spacing = 1.0;
+  double dilation = 0;  ///< when > 0: constant support whatever the spacing (001 Fig. 7)
+  EssentialBC essential = EssentialBC::lagrange;
+  double penalty = 1e8;
+  TableBuilder build;
+  std::string description;
+};
+std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe);
+
+/// Parameters of the 2D particle methods: kernel, support dmax·Δx or a fixed radius, and
+/// (for MLS trial functions) the essential boundary treatment.
+ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice);
+/// a_J from dmax·Δx (or the fixed radius) over the kernel's own support.
+void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,
+                           double& absolute);
 
 }  // namespace mfv

@@ -18,6 +18,10 @@ void register_efg(MethodRegistry&, const MethodParts&);
 void register_rkpm(MethodRegistry&, const MethodParts&);
 void register_sph(MethodRegistry&, const MethodParts&);
 void register_wavelet(MethodRegistry&, const MethodParts&);
+void register_rlm(MethodRegistry&, const MethodParts&);
+void register_kbm(MethodRegistry&, const MethodParts&);  // kbm-ni, kbm-si, kbm-ci
+void register_efg_ni(MethodRegistry&, const MethodParts&);
+void register_efg_ci(MethodRegistry&, const MethodParts&);
 
 /// Registers every method: add one line here for a new method.
 inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
@@ -26,6 +30,10 @@ inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
   register_rkpm(r, parts);
   register_sph(r, parts);
   register_wavelet(r, parts);
+  register_rlm(r, parts);
+  register_kbm(r, parts);
+  register_efg_ni(r, parts);
+  register_efg_ci(r, parts);
 }
 
 /// Dilation a = scale · 2^j · Δx of the RKPM windows, by the rule a paper states:

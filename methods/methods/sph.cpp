@@ -1,17 +1,46 @@
-/// `sph`: Galerkin with the uncorrected SPH kernel estimate (004 II Fig. 3): no consistency
-/// correction, so the gradient is wrong near boundaries.
+/// `sph`: symmetrized SPH with collocation at the particles (001 Table 1 row SPH, eq 25), and
+/// `sph-galerkin`: Galerkin with the uncorrected SPH kernel estimate (004 II Fig. 3).
+#include "methods/approximations/particle_gradients.hpp"
 #include "methods/methods/register.hpp"
 
 namespace mfv {
 
 void register_sph(MethodRegistry& r, const MethodParts& parts) {
+  r.add("sph",
+        "symmetrized SPH, collocation at the particles: F_I = Σ V_J (u_J - u_I) ⊗ ∇W_IJ, "
+        "f_I = -V_I Σ V_J (σ_J + σ_I)·∇W_IJ (001 Table 1, eq 25); no boundary treatment",
+        particle_method_schema(parts.kernels, false), [parts](const Params& p) {
+          ParticleRecipe g;
+          g.integration = parts.integrations.create("nodal");
+          set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
+          Params a;
+          a.set("kernel", p.text("kernel").c_str());
+          std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
+          std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
+          g.build = [sph, mls](Discretization& d, int) {
+            d.trial_q = sph_symmetric_gradient(sph->evaluate(d.particles, d.particles.x, 1));
+            d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
+            d.trial = mls;         // reconstruction of the particle values between particles
+            d.test = sph;
+            d.form = Form::collocation;
+            d.particle_values = true;
+          };
+          g.description = fmt::format(
+              "symmetrized SPH collocation, {} kernel, support {}; particle values fixed "
+              "directly at essential boundaries; fields between particles: linear MLS fit",
+              p.text("kernel"),
+              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
+                                     : fmt::format("{} dx", p.number("dmax")));
+          return make_particle_method(std::move(g));
+        });
+
   ParamSchema s = common_galerkin_schema(10);
   s.push_back(ParamSpec::choice("kernel", "gaussian", parts.kernels.keys(), "kernel W"));
   s.push_back(ParamSpec::positive("h", 1 / (0.5 * std::sqrt(M_PI)),
                                   "dilation over spacing, a = h dx (004 II Fig. 3 uses "
                                   "sigma = dx/(0.1 sqrt(pi)) and dx/(0.5 sqrt(pi)))"));
-  r.add("sph", "Galerkin with the plain SPH kernel estimate (no correction)", s,
-        [parts](const Params& p) {
+  r.add("sph-galerkin", "Galerkin with the plain SPH kernel estimate (no correction, 004 II Fig. 3)",
+        s, [parts](const Params& p) {
           GalerkinRecipe g;
           Params a;
           a.set("kernel", p.text("kernel").c_str());

@@ -1,0 +1,153 @@
+#include "methods/approximations/particle_gradients.hpp"
+
+#include <fmt/format.h>
+
+#include "methods/core/errors.hpp"
+
+namespace mfv {
+
+namespace {
+
+void require_same_rows(const ShapeTable& a, const ShapeTable& b) {
+  if (a.offsets != b.offsets || a.index != b.index)
+    throw std::logic_error("particle gradient tables must share neighbour lists");
+}
+
+/// Each row's diagonal entry (row q is particle q); -1 when q is outside its own row.
+int diagonal_entry(const ShapeTable& t, int q) {
+  for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
+    if (t.index[k] == q) return k;
+  return -1;
+}
+
+/// Copy of the row structure with values δ_IJ, gradients zeroed.
+ShapeTable delta_table(const ShapeTable& s) {
+  ShapeTable t;
+  t.dim = s.dim;
+  t.order = 1;
+  t.offsets = s.offsets;
+  t.index = s.index;
+  t.value.assign(s.entries(), 0.0);
+  t.grad.assign(static_cast<std::size_t>(s.entries()) * s.dim, 0.0);
+  for (int q = 0; q < s.points(); ++q) {
+    const int k = diagonal_entry(s, q);
+    if (k < 0) throw std::logic_error("a particle lies outside its own support");
+    t.value[k] = 1;
+  }
+  return t;
+}
+
+}  // namespace
+
+ShapeTable sph_symmetric_gradient(const ShapeTable& sph) {
+  ShapeTable t = delta_table(sph);
+  const int dim = sph.dim;
+  for (int q = 0; q < sph.points(); ++q) {
+    const int kd = diagonal_entry(sph, q);
+    for (int k = sph.offsets[q]; k < sph.offsets[q + 1]; ++k) {
+      if (k == kd) continue;
+      for (int d = 0; d < dim; ++d) {
+        t.grad[k * dim + d] = sph.grad[k * dim + d];
+        t.grad[kd * dim + d] -= sph.grad[k * dim + d];
+      }
+    }
+  }
+  return t;
+}
+
+RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet& p) {
+  const int dim = sph.dim;
+  RandlesLiberskyTables out{delta_table(sph), delta_table(sph)};
+  ShapeTable& G = out.trial;
+  ShapeTable& H = out.test;
+  Eigen::MatrixXd Binv(dim, dim), Bt(dim, dim);
+  Eigen::VectorXd g(dim), c(dim);
+  // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table.
+  std::vector<Eigen::MatrixXd> B(sph.points());
+  for (int I = 0; I < sph.points(); ++I) {
+    Binv.setZero();
+    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+      const int J = sph.index[k];
+      for (int a = 0; a < dim; ++a)
+        for (int b = 0; b < dim; ++b) Binv(a, b) += (p.x(a, J) - p.x(a, I)) * sph.grad[k * dim + b];
+    }
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(Binv);
+    if (!lu.isInvertible() || !(std::abs(lu.determinant()) > 1e-12 * std::pow(Binv.norm(), dim)))
+      throw SingularError(fmt::format(
+          "rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is singular; its "
+          "neighbours are too few or collinear: raise the support (dmax)",
+          I));
+    B[I] = lu.inverse();
+    Bt = B[I].transpose();
+    const int kd = diagonal_entry(sph, I);
+    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+      if (k == kd) continue;
+      for (int d = 0; d < dim; ++d) g[d] = sph.grad[k * dim + d];
+      c = Bt * g;
+      for (int d = 0; d < dim; ++d) {
+        G.grad[k * dim + d] = c[d];
+        G.grad[kd * dim + d] -= c[d];
+      }
+    }
+  }
+  // Test rows: f_I = -V_I Σ_J (σ_J + σ_I)·c_IJ. The coefficient of σ_J (J ≠ I) is -V_I c_IJ,
+  // stored at row q = J, entry I, divided by the weight V_J of that row; the coefficient of
+  // σ_I is -V_I Σ_J c_IJ, stored at row I, entry I, divided by V_I.
+  for (int I = 0; I < sph.points(); ++I) {
+    const int kd = diagonal_entry(sph, I);
+    for (int d = 0; d < dim; ++d) H.grad[kd * dim + d] = G.grad[kd * dim + d];
+  }
+  for (int I = 0; I < sph.points(); ++I) {
+    const int kd = diagonal_entry(sph, I);
+    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+      if (k == kd) continue;
+      const int J = sph.index[k];
+      // Entry I of row J (rows share symmetric neighbour lists: constant dilation).
+      int kji = -1;
+      for (int m = sph.offsets[J]; m < sph.offsets[J + 1]; ++m)
+        if (sph.index[m] == I) kji = m;
+      if (kji < 0)
+        throw InputError("rlm needs symmetric neighbour lists (one dilation for all particles)");
+      for (int d = 0; d < dim; ++d)
+        H.grad[kji * dim + d] = -p.volume[I] / p.volume[J] * G.grad[k * dim + d];
+    }
+  }
+  return out;
+}
+
+ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
+                              const ParticleSet& p, const Eigen::MatrixXd& points) {
+  require_same_rows(shepard, values);
+  const int dim = shepard.dim;
+  ShapeTable t = values;
+  t.order = 1;
+  t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
+  t.hess.clear();
+  Eigen::MatrixXd M(dim, dim);
+  Eigen::VectorXd g(dim);
+  for (int q = 0; q < shepard.points(); ++q) {
+    // M_jb = Σ_I ∂_j W^S_I (X_I - x)_b: the shift by x changes nothing (Σ ∇W^S = 0) but keeps
+    // the sums well scaled.
+    M.setZero();
+    for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k)
+      for (int j = 0; j < dim; ++j)
+        for (int b = 0; b < dim; ++b)
+          M(j, b) += shepard.grad[k * dim + j] * (p.x(b, shepard.index[k]) - points(b, q));
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
+    if (!lu.isInvertible() || !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), dim)))
+      throw SingularError(fmt::format(
+          "kbm: the correction matrix A (001 eq 31) is singular at point {}; its support holds "
+          "too few or collinear particles: raise the support (dmax)",
+          q));
+    // G_I = a ∇W^S_I with a = M⁻¹ (eq 31: A aᵀ = I with A = Mᵀ).
+    const Eigen::MatrixXd a = lu.inverse();
+    for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
+      for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
+      const Eigen::VectorXd G = a * g;
+      for (int d = 0; d < dim; ++d) t.grad[k * dim + d] = G[d];
+    }
+  }
+  return t;
+}
+
+}  // namespace mfv

@@ -1,0 +1,64 @@
+/// `kbm-ni`, `kbm-si`: Krongauz–Belytschko corrected derivatives (001 eqs 26–32) of MLS trial
+/// functions with Shepard test functions, Petrov–Galerkin (001 §4.1.1), integrated at the
+/// particles (ni) or at particles and stress points (si, eqs 63–65).
+#include "methods/approximations/particle_gradients.hpp"
+#include "methods/methods/register.hpp"
+
+namespace mfv {
+
+namespace {
+
+void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std::string& name,
+                          const std::string& integration) {
+  ParamSchema s = particle_method_schema(parts.kernels, true);
+  if (integration == "stress-points")
+    s.push_back(ParamSpec::choice("layout", "quad-centres", {"quad-centres", "triangle-centres"},
+                                  "stress points at lattice quadrilateral or triangle centres "
+                                  "(000 Fig. 8)"));
+  r.add(name,
+        fmt::format("Krongauz-Belytschko corrected gradients of MLS trial functions, Shepard test "
+                    "functions (Petrov-Galerkin), {} integration (001 eqs 26-32, Table 1)",
+                    integration == "nodal" ? "nodal" : integration == "gauss-cells" ? "Gauss-cell" : "stress-point"),
+        s, [parts, integration](const Params& p) {
+          ParticleRecipe g;
+          Params q;
+          if (integration == "stress-points") q.set("layout", p.text("layout").c_str());
+          g.integration = parts.integrations.create(integration, q);
+          set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
+          g.essential = essential_from(p);
+          g.penalty = p.number("penalty");
+          Params a;
+          a.set("kernel", p.text("kernel").c_str());
+          std::shared_ptr<const Approximation> shepard = parts.approximations.create("shepard", a);
+          std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
+          g.build = [shepard, mls](Discretization& d, int) {
+            const Eigen::MatrixXd& pts = d.quadrature.points;
+            ShapeTable test = shepard->evaluate(d.particles, pts, 1);
+            d.trial_q = corrected_gradient(test, mls->evaluate(d.particles, pts, 0), d.particles, pts);
+            d.test_q = std::move(test);
+            d.trial = mls;
+            d.test = shepard;
+            d.form = Form::petrov_galerkin;
+          };
+          g.description = fmt::format(
+              "KBM: MLS trial, corrected gradient, Shepard test, {} kernel, support {}, {}{}, "
+              "bc={}",
+              p.text("kernel"),
+              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
+                                     : fmt::format("{} dx", p.number("dmax")),
+              integration, integration == "stress-points" ? " " + p.text("layout") : "",
+              p.text("bc"));
+          return make_particle_method(std::move(g));
+        });
+}
+
+}  // namespace
+
+void register_kbm(MethodRegistry& r, const MethodParts& parts) {
+  register_kbm_variant(r, parts, "kbm-ni", "nodal");
+  register_kbm_variant(r, parts, "kbm-si", "stress-points");
+  // Not in 001: the same method on Gauss cells, which isolates the effect of the quadrature.
+  register_kbm_variant(r, parts, "kbm-ci", "gauss-cells");
+}
+
+}  // namespace mfv
