@@ -241,6 +241,23 @@ class Cantilever final : public Problem {
         "Energy error: 001 eq 74 defines ‖u‖_energy = ∫ P:Fᵀ dΩ without a square root. We "
         "report the usual sqrt(∫ (ε_h-ε):D:(ε_h-ε) / ∫ ε:D:ε); eq 74 read literally is the "
         "square of ours, with twice the rate.",
+        "KBM si and KBM ni stagnate near 1% where 001 reports a rate close to 2 for KBM si. "
+        "The same tables on Gauss cells (`kbm-ci`, not a method of 001) converge at rate 2.2, "
+        "so the corrected gradients and the Petrov–Galerkin coupling are sound; the "
+        "stagnation comes from the quadrature. Nodal and stress-point rules integrate "
+        "∇W^S_I, the Shepard test-function gradient, with a trapezoid-like error that is O(1) "
+        "relative to the force wherever a support is cut by the free or loaded edges, leaving "
+        "spurious boundary forces of order σ. 001 does not say how its boundary particles were "
+        "integrated; a boundary correction of that kind would be our first suspect for the gap. "
+        "The displacement patch test shows the same: KBM si leaves 1e-3 relative error on a "
+        "uniform lattice where Krongauz and Belytschko report round-off.",
+        "SPH with a constant support (Fig. 7) does not converge here: with radius 4.5 the L2 "
+        "error grows from 1.3 to 2.3 as the spacing falls from 3 to 0.9. Only the particles on "
+        "x = 0 are fixed, so as Δx shrinks under a fixed kernel the clamped layer becomes a "
+        "vanishing fraction of each support and the clamp softens (the tip deflection grows "
+        "with every refinement). 001 does not give its radius or its clamp; fixing every particle "
+        "within one radius of x = 0 is the likely difference. EFG ci with the same constant "
+        "support converges (rate 1.9).",
         "Own-rule errors use each method's own quadrature, values and gradients (001: 'the "
         "integrals are evaluated numerically by the procedure that is used to evaluate the nodal "
         "forces'); common-rule errors use 4×4 Gauss on a uniform grid and the trial field "

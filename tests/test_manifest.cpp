@@ -164,7 +164,7 @@ TEST_F(ManifestTest, ValidManifestParsesEveryKey) {
   EXPECT_DOUBLE_EQ(a.perturbation, 0.25);
   EXPECT_EQ(a.labels, (std::vector<std::string>{"fast", "fem"}));
 
-  ASSERT_EQ(a.bands.size(), band_metrics().size());
+  ASSERT_EQ(a.bands.size(), 6u);  // every 1D metric; energy bands: EnergyBandsParse
   const struct {
     const char* name;
     double low, high;
@@ -299,9 +299,23 @@ TEST_F(ManifestTest, FindReturnsCaseOrListsValidIds) {
 }
 
 TEST(BandMetrics, NamesInReportOrder) {
-  EXPECT_EQ(band_metrics(), (std::vector<std::string>{"l2_rate", "h1_rate", "l2_finest",
-                                                      "h1_finest", "l2_rel_finest",
-                                                      "h1_rel_finest"}));
+  EXPECT_EQ(band_metrics(),
+            (std::vector<std::string>{"l2_rate", "h1_rate", "l2_finest", "h1_finest",
+                                      "l2_rel_finest", "h1_rel_finest", "energy_rate",
+                                      "energy_rel_finest"}));
+}
+
+TEST_F(ManifestTest, EnergyBandsParse) {
+  const Manifest m = load_manifest(write("e.toml",
+                                         "[suite]\nname = \"e\"\n[[case]]\nid = \"c\"\n"
+                                         "problem = \"cantilever\"\nmethod = \"fem\"\n"
+                                         "nodes = [5, 9]\n[case.bands]\n"
+                                         "energy_rate = [0.9, 1.2]\n"
+                                         "energy_rel_finest = [0.0, 0.1]\n"));
+  ASSERT_EQ(m.cases.size(), 1u);
+  EXPECT_EQ(m.cases[0].bands.at("energy_rate").low, 0.9);
+  EXPECT_EQ(m.cases[0].bands.at("energy_rel_finest").high, 0.1);
+  EXPECT_EQ(m.cases[0].bands.at("energy_rate").line, 9);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -272,7 +272,8 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
           get_band(r, v, fmt::format("headline '{}'", k.str()));
     }
     // A rate is a slope: it needs two resolutions in every mode the case can run in.
-    const bool has_rate = c.bands.count("l2_rate") || c.bands.count("h1_rate");
+    const bool has_rate =
+        c.bands.count("l2_rate") || c.bands.count("h1_rate") || c.bands.count("energy_rate");
     if (has_rate && std::min(c.nodes.size(), c.full_nodes.size()) < 2)
       r.fail(c.line, fmt::format("case '{}' has a rate band but fewer than 2 resolutions", c.id),
              "list at least two resolutions in nodes (and full_nodes)");
@@ -311,8 +312,9 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
 }  // namespace
 
 const std::vector<std::string>& band_metrics() {
-  static const std::vector<std::string> kMetrics = {"l2_rate",   "h1_rate",       "l2_finest",
-                                                    "h1_finest", "l2_rel_finest", "h1_rel_finest"};
+  static const std::vector<std::string> kMetrics = {
+      "l2_rate",       "h1_rate",       "l2_finest",        "h1_finest",
+      "l2_rel_finest", "h1_rel_finest", "energy_rate",      "energy_rel_finest"};
   return kMetrics;
 }
 
@@ -413,11 +415,13 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
     if (it == c.bands.end()) continue;
     double value = nan;
     std::string why = "the run produced NaN";
-    if (metric == "l2_rate" || metric == "h1_rate") {
+    if (metric == "l2_rate" || metric == "h1_rate" || metric == "energy_rate") {
       if (s.cases.size() < 2)
         why = fmt::format("a rate needs at least 2 resolutions, the study has {}", s.cases.size());
       else
-        value = metric == "l2_rate" ? s.rates.l2 : s.rates.h1_semi;
+        value = metric == "l2_rate"   ? s.rates.l2
+                : metric == "h1_rate" ? s.rates.h1_semi
+                                      : s.rates.energy;
     } else if (!finest) {
       why = "the study has no resolutions";
     } else {
@@ -426,6 +430,7 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
       else if (metric == "h1_finest") value = e.h1_semi;
       else if (metric == "l2_rel_finest") value = e.l2_rel;
       else if (metric == "h1_rel_finest") value = e.h1_semi_rel;
+      else if (metric == "energy_rel_finest") value = e.energy_rel;
     }
     check(metric, metric, value, it->second, why);
   }
