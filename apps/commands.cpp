@@ -129,17 +129,35 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   out << fmt::format("L2 error  {:.6e}  (relative {:.6e})\n", r.errors.l2, r.errors.l2_rel);
   out << fmt::format("H1 semi   {:.6e}  (relative {:.6e})\n", r.errors.h1_semi, r.errors.h1_semi_rel);
   out << fmt::format("H1 full   {:.6e}  (relative {:.6e})\n", r.errors.h1, r.errors.h1_rel);
-  out << fmt::format("paper-rule L2 {:.6e}, H1 semi {:.6e}\n", r.errors_paper.l2,
-                     r.errors_paper.h1_semi);
+  if (r.components > 1) {
+    out << fmt::format("energy    {:.6e}  (relative {:.6e})\n", r.errors.energy,
+                       r.errors.energy_rel);
+    out << fmt::format("own rule  L2 relative {:.6e}, energy relative {:.6e} ({} points, {} "
+                       "stress points)\n",
+                       r.errors_paper.l2_rel, r.errors_paper.energy_rel, r.quadrature_points,
+                       r.stress_points);
+  } else {
+    out << fmt::format("paper-rule L2 {:.6e}, H1 semi {:.6e}\n", r.errors_paper.l2,
+                       r.errors_paper.h1_semi);
+  }
   for (const auto& [k, v] : r.headline) out << fmt::format("{:<22} {:.6f}\n", k, v);
   out << fmt::format("CPU       setup {:.4f} s, assembly {:.4f} s, solve {:.4f} s\n", r.cpu.setup,
                      r.cpu.assembly, r.cpu.solve);
-  out << fmt::format("solver    {}: {} unknowns, {} nonzeros, residual {:.1e}, condition {:.2e}\n",
-                     r.solve.solver, r.solve.unknowns, r.solve.nonzeros, r.solve.residual,
-                     r.solve.condition);
+  out << fmt::format("solver    {}: {} unknowns, {} nonzeros, fill {}, residual {:.1e}, "
+                     "rcond {:.1e}, condition {:.2e}\n",
+                     r.solve.solver, r.solve.unknowns, r.solve.nonzeros, r.solve.fill,
+                     r.solve.residual, r.solve.rcond, r.solve.condition);
   if (!o.vtk.empty()) {
-    write_case_vtp(o.vtk, r);
-    out << fmt::format("vtk       {}\n", o.vtk);
+    if (r.components > 1) {
+      write_particles_vtp(o.vtk, r);
+      std::filesystem::path q = o.vtk;
+      q.replace_extension(".quadrature.vtp");
+      write_quadrature_vtp(q, r);
+      out << fmt::format("vtk       {} and {}\n", o.vtk, q.string());
+    } else {
+      write_case_vtp(o.vtk, r);
+      out << fmt::format("vtk       {}\n", o.vtk);
+    }
   }
 }
 
