@@ -8,7 +8,6 @@
 /// Counters: particles, qpoints (integration points), time/particle (wall time of one run
 /// divided by the particle count), unknowns and nnz of K, and for the solve the fill of the
 /// factors. Speed is measured here only: tests assert no timings.
-#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -192,8 +191,8 @@ void add(const char* family, BenchFn fn, const char* method, int depth) {
   const int particles = lattice_particles(depth);
   auto* b = benchmark::RegisterBenchmark((std::string(family) + "/" + method).c_str(), fn, method);
   b->Arg(particles)->Unit(benchmark::kMillisecond)->UseRealTime();
-  // 10^3 and 10^4 repeat until half a second has passed. A 10^5 case takes 0.1-50 s and
-  // up to 5.7 GB per run: one iteration, so the cantilever set finishes in a few minutes
+  // 10^3 and 10^4 repeat until half a second has passed. A 10^5 case takes 0.6-47 s and
+  // up to 5.4 GB per run: one iteration, so the cantilever set finishes in a few minutes
   // on 2 cores (a second would also hold two systems at once).
   if (particles > 50000)
     b->Iterations(1);
