@@ -220,7 +220,9 @@ class Cantilever final : public Problem {
                                          const Eigen::VectorXd& u) const override {
     Eigen::MatrixXd x(2, 1);
     x << L_, 0.0;
-    return {{kTip, table_values_2d(d.trial_at(x, 0), u)(1, 0)}};
+    Eigen::MatrixXd v, g;
+    d.trial_at(x, 0).field(u, 2, v, g);
+    return {{kTip, v(1, 0)}};
   }
   std::map<std::string, double> headline_exact() const override {
     Eigen::MatrixXd x(2, 1), u, g;

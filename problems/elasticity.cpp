@@ -34,23 +34,6 @@ RowSparse strain_operator(const ShapeTable& t, int particles) {
 
 }  // namespace
 
-Eigen::MatrixXd table_values_2d(const ShapeTable& t, const Eigen::VectorXd& u) {
-  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(2, t.points());
-  for (int q = 0; q < t.points(); ++q)
-    for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
-      for (int c = 0; c < 2; ++c) v(c, q) += t.value[k] * u[2 * t.index[k] + c];
-  return v;
-}
-
-Eigen::MatrixXd table_gradient_2d(const ShapeTable& t, const Eigen::VectorXd& u) {
-  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(4, t.points());
-  for (int q = 0; q < t.points(); ++q)
-    for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
-      for (int c = 0; c < 2; ++c)
-        for (int d = 0; d < 2; ++d) g(2 * c + d, q) += t.grad[2 * k + d] * u[2 * t.index[k] + c];
-  return g;
-}
-
 AssembledSystem assemble_elasticity(const Discretization& d, const ElasticityBVP& bvp) {
   const int n = d.particles.size();
   const int nq = d.trial_q.points();

@@ -151,9 +151,6 @@ struct ElasticityBVP {
 /// Table 1's methods), f from the tractions on the method's boundary rule, and the
 /// constraints at the boundary particles' points (or the particles, for particle values).
 AssembledSystem assemble_elasticity(const Discretization& d, const ElasticityBVP& bvp);
-/// Gradient rows (∂u_x/∂x, ∂u_x/∂y, ∂u_y/∂x, ∂u_y/∂y) of an interleaved 2D field on a table.
-Eigen::MatrixXd table_gradient_2d(const ShapeTable& t, const Eigen::VectorXd& u);
-Eigen::MatrixXd table_values_2d(const ShapeTable& t, const Eigen::VectorXd& u);
 
 /// Shared 1D assembly of ∫ (k w' u' + c w u' + τ R(w) R(u)) - ∫ w f (+ τ R(w) f) used by both
 /// 1D problems; R(v) = -v'' + c v' is the residual operator of the stabilized form (004 I eq 6.3).

@@ -81,7 +81,7 @@ TEST_P(Methods2D, GradientTableReproducesLinearFields) {
   Eigen::VectorXd u(2 * d.particles.size());
   for (int J = 0; J < d.particles.size(); ++J) u.segment<2>(2 * J) = ue.col(J);
   Eigen::MatrixXd v, g;
-  field_values(d.trial_q, u, 2, v, g);
+  d.trial_q.field(u, 2, v, g);
   p->exact_field(d.quadrature.points, ue, ge);
   const double err = (g - ge).cwiseAbs().maxCoeff();
   if (std::string(GetParam()) == "sph")

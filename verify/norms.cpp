@@ -56,41 +56,20 @@ ErrorNorms norms_from(const Problem& problem, const IntegrationRule& rule, const
   return e;
 }
 
-/// Values (components × nq) and gradients (components·dim × nq) of interleaved unknowns.
-void field_on(const ShapeTable& t, const Eigen::VectorXd& u, int nc, Eigen::MatrixXd& v,
-              Eigen::MatrixXd& g) {
-  const int dim = t.dim;
-  v = Eigen::MatrixXd::Zero(nc, t.points());
-  g = Eigen::MatrixXd::Zero(nc * dim, t.points());
-  for (int q = 0; q < t.points(); ++q)
-    for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
-      for (int c = 0; c < nc; ++c) {
-        const double uj = u[t.index[k] * nc + c];
-        v(c, q) += t.value[k] * uj;
-        if (!t.grad.empty())
-          for (int d = 0; d < dim; ++d) g(c * dim + d, q) += t.grad[k * dim + d] * uj;
-      }
-}
-
 }  // namespace
 
 ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
                        const IntegrationRule& rule) {
   Eigen::MatrixXd uh, gh;
-  field_on(d.trial_at(rule.points, 1), u, problem.components(), uh, gh);
+  d.trial_at(rule.points, 1).field(u, problem.components(), uh, gh);
   return norms_from(problem, rule, uh, gh);
 }
 
 ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
                                    const Eigen::VectorXd& u) {
   Eigen::MatrixXd uh, gh;
-  field_on(d.trial_q, u, problem.components(), uh, gh);
+  d.trial_q.field(u, problem.components(), uh, gh);
   return norms_from(problem, d.quadrature, uh, gh);
-}
-
-void field_values(const ShapeTable& t, const Eigen::VectorXd& u, int components,
-                  Eigen::MatrixXd& values, Eigen::MatrixXd& gradients) {
-  field_on(t, u, components, values, gradients);
 }
 
 double fitted_rate(const std::vector<double>& h, const std::vector<double>& e) {

@@ -22,10 +22,6 @@ ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Ei
 /// procedure that is used to evaluate the nodal forces").
 ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
                                    const Eigen::VectorXd& u);
-/// Values (components × points) and gradients (components·dim × points) of interleaved
-/// unknowns on a table.
-void field_values(const ShapeTable& t, const Eigen::VectorXd& u, int components,
-                  Eigen::MatrixXd& values, Eigen::MatrixXd& gradients);
 
 /// Least-squares slope of ln e against ln h (GSL gsl_fit_linear); NaN with fewer than two
 /// usable (positive, finite) points.

@@ -157,12 +157,12 @@ void sample_particles(const Problem& problem, const Discretization& d, const Eig
   f.volume = d.particles.volume;
   f.stress_names = problem.flux_names();
   Eigen::MatrixXd qv, qg, g, ue, ge;
-  field_values(d.trial_q, u, nc, qv, qg);
+  d.trial_q.field(u, nc, qv, qg);
   if (d.quadrature.nodal_points == n) {
     f.disp_h = qv.leftCols(n);
     g = qg.leftCols(n);
   } else {
-    field_values(d.trial_at(d.particles.x, 1), u, nc, f.disp_h, g);
+    d.trial_at(d.particles.x, 1).field(u, nc, f.disp_h, g);
   }
   problem.exact_field(d.particles.x, f.disp_exact, ge);
   f.stress_h = problem.flux(g);

@@ -29,4 +29,19 @@ Eigen::VectorXd ShapeTable::interpolate_second_derivative(const Eigen::VectorXd&
   return out;
 }
 
+void ShapeTable::field(const Eigen::VectorXd& u, int nc, Eigen::MatrixXd& v,
+                       Eigen::MatrixXd& g) const {
+  v = Eigen::MatrixXd::Zero(nc, points());
+  g = Eigen::MatrixXd::Zero(nc * dim, points());
+  const bool gradients = !grad.empty();
+  for (int q = 0; q < points(); ++q)
+    for (int k = offsets[q]; k < offsets[q + 1]; ++k)
+      for (int c = 0; c < nc; ++c) {
+        const double uj = u[index[k] * nc + c];
+        v(c, q) += value[k] * uj;
+        if (gradients)
+          for (int d = 0; d < dim; ++d) g(c * dim + d, q) += grad[k * dim + d] * uj;
+      }
+}
+
 }  // namespace mfv

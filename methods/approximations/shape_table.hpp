@@ -26,6 +26,11 @@ struct ShapeTable {
   Eigen::VectorXd interpolate_derivative(const Eigen::VectorXd& u, int d = 0) const;
   /// Σ_J ∂²N_J/∂x_d∂x_d (x_q) u_J.
   Eigen::VectorXd interpolate_second_derivative(const Eigen::VectorXd& u, int d = 0) const;
+  /// A field of `components` per particle, interleaved in u (u_x, u_y of particle 0, ...):
+  /// values (components × points) and, when the table holds them, gradients
+  /// (components·dim × points; row c·dim + d is ∂u_c/∂x_d).
+  void field(const Eigen::VectorXd& u, int components, Eigen::MatrixXd& values,
+             Eigen::MatrixXd& gradients) const;
 };
 
 }  // namespace mfv
