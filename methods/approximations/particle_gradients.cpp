@@ -20,6 +20,17 @@ int diagonal_entry(const ShapeTable& t, int q) {
   return -1;
 }
 
+/// M⁻¹, or SingularError with what() when M is singular or nearly so (relative to its size);
+/// the message is built only then, since this runs once per point.
+template <class Message>
+Eigen::MatrixXd inverse_or_throw(const Eigen::MatrixXd& M, const Message& what) {
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
+  if (!lu.isInvertible() ||
+      !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), static_cast<double>(M.rows()))))
+    throw SingularError(what());
+  return lu.inverse();
+}
+
 /// Copy of the row structure with values δ_IJ, gradients zeroed.
 ShapeTable delta_table(const ShapeTable& s) {
   ShapeTable t;
@@ -63,7 +74,6 @@ RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet&
   Eigen::MatrixXd Binv(dim, dim), Bt(dim, dim);
   Eigen::VectorXd g(dim), c(dim);
   // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table.
-  std::vector<Eigen::MatrixXd> B(sph.points());
   for (int I = 0; I < sph.points(); ++I) {
     Binv.setZero();
     for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
@@ -71,14 +81,12 @@ RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet&
       for (int a = 0; a < dim; ++a)
         for (int b = 0; b < dim; ++b) Binv(a, b) += (p.x(a, J) - p.x(a, I)) * sph.grad[k * dim + b];
     }
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(Binv);
-    if (!lu.isInvertible() || !(std::abs(lu.determinant()) > 1e-12 * std::pow(Binv.norm(), dim)))
-      throw SingularError(fmt::format(
-          "rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is singular; its "
-          "neighbours are too few or collinear: raise the support (dmax)",
-          I));
-    B[I] = lu.inverse();
-    Bt = B[I].transpose();
+    Bt = inverse_or_throw(Binv, [I] {
+           return fmt::format("rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is "
+                              "singular; its neighbours are too few or collinear: raise the "
+                              "support (dmax)",
+                              I);
+         }).transpose();
     const int kd = diagonal_entry(sph, I);
     for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
       if (k == kd) continue;
@@ -133,14 +141,12 @@ ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& value
       for (int j = 0; j < dim; ++j)
         for (int b = 0; b < dim; ++b)
           M(j, b) += shepard.grad[k * dim + j] * (p.x(b, shepard.index[k]) - points(b, q));
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
-    if (!lu.isInvertible() || !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), dim)))
-      throw SingularError(fmt::format(
-          "kbm: the correction matrix A (001 eq 31) is singular at point {}; its support holds "
-          "too few or collinear particles: raise the support (dmax)",
-          q));
     // G_I = a ∇W^S_I with a = M⁻¹ (eq 31: A aᵀ = I with A = Mᵀ).
-    const Eigen::MatrixXd a = lu.inverse();
+    const Eigen::MatrixXd a = inverse_or_throw(M, [q] {
+      return fmt::format("kbm: the correction matrix A (001 eq 31) is singular at point {}; its "
+                         "support holds too few or collinear particles: raise the support (dmax)",
+                         q);
+    });
     for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
       for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
       const Eigen::VectorXd G = a * g;

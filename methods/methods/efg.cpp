@@ -64,8 +64,7 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
           g.penalty = p.number("penalty");
           g.description = fmt::format(
               "EFG: MLS linear, {} kernel, support {}, {}, bc={}", p.text("kernel"),
-              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
-                                     : fmt::format("{} dx", p.number("dmax")),
+              support_text(p),
               integration == "nodal" ? "nodal integration"
               : p.integer("nq") > 0  ? fmt::format("{0}x{0} Gauss per cell", p.integer("nq"))
                                      : "Gauss cells with n_Q = sqrt(m)+2",

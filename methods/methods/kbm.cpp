@@ -44,8 +44,7 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
               "KBM: MLS trial, corrected gradient, Shepard test, {} kernel, support {}, {}{}, "
               "bc={}",
               p.text("kernel"),
-              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
-                                     : fmt::format("{} dx", p.number("dmax")),
+              support_text(p),
               integration, integration == "stress-points" ? " " + p.text("layout") : "",
               p.text("bc"));
           return make_particle_method(std::move(g));

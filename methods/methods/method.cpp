@@ -53,6 +53,23 @@ ShapeTable Discretization::test_on(const IntegrationRule& b) const {
 
 namespace {
 
+/// What every method does first: dilations (a fixed one, or a multiple of the spacing), the
+/// integration rule and the recipe's boundary treatment.
+Discretization prepare(const Domain& domain, ParticleSet& particles,
+                       const std::shared_ptr<const IntegrationScheme>& integration,
+                       double dilation, double over_spacing, EssentialBC essential, double penalty,
+                       const std::string& description) {
+  particles.dilation.setConstant(dilation > 0 ? dilation : over_spacing * particles.spacing);
+  Discretization d;
+  d.domain = domain;
+  d.integration = integration;
+  d.quadrature = integration->rule(domain, particles);
+  d.essential = essential;
+  d.penalty = penalty;
+  d.description = description;
+  return d;
+}
+
 class GalerkinMethod final : public Method {
  public:
   explicit GalerkinMethod(GalerkinRecipe r) : r_(std::move(r)) {}
@@ -63,20 +80,13 @@ class GalerkinMethod final : public Method {
                                    "nodes",
                                    particles.size(),
                                    r_.trial->minimum_support_count(particles.dim) + 1));
-    particles.dilation.setConstant(r_.dilation > 0 ? r_.dilation
-                                                   : r_.dilation_over_spacing * particles.spacing);
-    Discretization d;
-    d.domain = domain;
-    d.integration = r_.integration;
-    d.quadrature = r_.integration->rule(domain, particles);
+    Discretization d = prepare(domain, particles, r_.integration, r_.dilation,
+                               r_.dilation_over_spacing, r_.essential, r_.penalty, r_.description);
     d.trial = r_.trial;
     d.test = r_.test ? r_.test : r_.trial;
     d.form = r_.test ? Form::petrov_galerkin : Form::galerkin;
     d.trial_q = r_.trial->evaluate(particles, d.quadrature.points, order);
     d.test_q = r_.test ? r_.test->evaluate(particles, d.quadrature.points, order) : d.trial_q;
-    d.essential = r_.essential;
-    d.penalty = r_.penalty;
-    d.description = r_.description;
     d.particles = std::move(particles);
     return d;
   }
@@ -90,15 +100,8 @@ class ParticleMethod final : public Method {
   explicit ParticleMethod(ParticleRecipe r) : r_(std::move(r)) {}
 
   Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
-    particles.dilation.setConstant(r_.dilation > 0 ? r_.dilation
-                                                   : r_.dilation_over_spacing * particles.spacing);
-    Discretization d;
-    d.domain = domain;
-    d.integration = r_.integration;
-    d.quadrature = r_.integration->rule(domain, particles);
-    d.essential = r_.essential;
-    d.penalty = r_.penalty;
-    d.description = r_.description;
+    Discretization d = prepare(domain, particles, r_.integration, r_.dilation,
+                               r_.dilation_over_spacing, r_.essential, r_.penalty, r_.description);
     d.particles = std::move(particles);
     r_.build(d, order);
     return d;
@@ -134,6 +137,11 @@ ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential
                                     "penalty factor relative to the largest stiffness entry"));
   }
   return s;
+}
+
+std::string support_text(const Params& p) {
+  return p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
+                                 : fmt::format("{} dx", p.number("dmax"));
 }
 
 void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,

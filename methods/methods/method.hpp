@@ -111,6 +111,8 @@ std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe);
 /// Parameters of the 2D particle methods: kernel, support dmax·Δx or a fixed radius, and
 /// (for MLS trial functions) the essential boundary treatment.
 ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice);
+/// "radius 4.5" or "2.4 dx": the support of a particle method, for descriptions.
+std::string support_text(const Params& p);
 /// a_J from dmax·Δx (or the fixed radius) over the kernel's own support.
 void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,
                            double& absolute);

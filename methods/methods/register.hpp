@@ -36,6 +36,16 @@ inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
   register_efg_ci(r, parts);
 }
 
+/// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles.
+using CollocationTables =
+    std::function<void(const ShapeTable& sph, const ParticleSet&, Discretization&)>;
+/// A collocation particle method (SPH, RLM): nodal rule, the SPH kernel table at the
+/// particles turned into gradient tables by `tables`, particle values as unknowns and a
+/// linear MLS fit of them as the field between particles.
+std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const Params& p,
+                                                const std::string& name,
+                                                const CollocationTables& tables);
+
 /// Dilation a = scale · 2^j · Δx of the RKPM windows, by the rule a paper states:
 /// eq7.4: a = 2^{j+0.5} σ with Δx/(σ√π) = 1/√2 (Gaussian) or a = 2^{j+0.5} Δx (cubic window);
 /// eq6.10: a0 = 2^j Δx √(2/π); custom: the given scale.

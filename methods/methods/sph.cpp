@@ -5,33 +5,41 @@
 
 namespace mfv {
 
+std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const Params& p,
+                                                const std::string& name,
+                                                const CollocationTables& tables) {
+  ParticleRecipe g;
+  g.integration = parts.integrations.create("nodal");
+  set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
+  Params a;
+  a.set("kernel", p.text("kernel").c_str());
+  std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
+  std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
+  g.build = [sph, mls, tables](Discretization& d, int) {
+    tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d);
+    d.trial = mls;  // reconstruction of the particle values between particles
+    d.test = sph;
+    d.form = Form::collocation;
+    d.particle_values = true;
+  };
+  g.description = fmt::format(
+      "{}, {} kernel, support {}; particle values fixed directly at essential boundaries; "
+      "fields between particles: linear MLS fit",
+      name, p.text("kernel"), support_text(p));
+  return make_particle_method(std::move(g));
+}
+
 void register_sph(MethodRegistry& r, const MethodParts& parts) {
   r.add("sph",
         "symmetrized SPH, collocation at the particles: F_I = Σ V_J (u_J - u_I) ⊗ ∇W_IJ, "
         "f_I = -V_I Σ V_J (σ_J + σ_I)·∇W_IJ (001 Table 1, eq 25); no boundary treatment",
         particle_method_schema(parts.kernels, false), [parts](const Params& p) {
-          ParticleRecipe g;
-          g.integration = parts.integrations.create("nodal");
-          set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
-          std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
-          g.build = [sph, mls](Discretization& d, int) {
-            d.trial_q = sph_symmetric_gradient(sph->evaluate(d.particles, d.particles.x, 1));
-            d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
-            d.trial = mls;         // reconstruction of the particle values between particles
-            d.test = sph;
-            d.form = Form::collocation;
-            d.particle_values = true;
-          };
-          g.description = fmt::format(
-              "symmetrized SPH collocation, {} kernel, support {}; particle values fixed "
-              "directly at essential boundaries; fields between particles: linear MLS fit",
-              p.text("kernel"),
-              p.number("radius") > 0 ? fmt::format("radius {}", p.number("radius"))
-                                     : fmt::format("{} dx", p.number("dmax")));
-          return make_particle_method(std::move(g));
+          return make_collocation_method(
+              parts, p, "symmetrized SPH collocation",
+              [](const ShapeTable& sph, const ParticleSet&, Discretization& d) {
+                d.trial_q = sph_symmetric_gradient(sph);
+                d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
+              });
         });
 
   ParamSchema s = common_galerkin_schema(10);
