@@ -16,35 +16,6 @@ namespace mfv {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string pairwise(const std::vector<double>& v) {
-  std::vector<std::string> s;
-  for (double x : v) s.push_back(fmt_rate(x));
-  return s.empty() ? std::string("–") : fmt::format("{}", fmt::join(s, ", "));
-}
-
-PlotSpec error_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                    bool energy) {
-  PlotSpec spec;
-  spec.title = title;
-  spec.xlabel = "h (particle spacing)";
-  spec.ylabel = energy ? "relative energy error" : "relative L2 displacement error";
-  spec.logx = spec.logy = true;
-  for (const auto& st : studies) {
-    Series s;
-    s.label = fmt::format("{} (rate {})", st.label, fmt_rate(energy ? st.rates.energy : st.rates.l2));
-    for (const auto& c : st.cases) {
-      s.x.push_back(c.h);
-      s.y.push_back(energy ? c.errors.energy_rel : c.errors.l2_rel);
-    }
-    spec.series.push_back(std::move(s));
-  }
-  return spec;
-}
-
-}  // namespace
-
 std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
   std::vector<StudySummary> out;
   for (const auto& s : studies) {
@@ -152,8 +123,8 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
                      "L2 rate (own)", "energy rate (own)"},
                     {'l', 'r', 'r', 'r', 'r', 'r', 'r'});
     for (const auto& s : section.studies)
-      t.add_row({s.label, fmt_rate(s.rates.l2), pairwise(s.rates.l2_pairwise),
-                 fmt_rate(s.rates.energy), pairwise(s.rates.energy_pairwise),
+      t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
+                 fmt_rate(s.rates.energy), fmt_rates(s.rates.energy_pairwise),
                  fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.energy)});
     md += t.str() + "\n";
   }
@@ -162,8 +133,15 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
   fs::create_directories(dir / "plots");
   for (bool energy : {false, true}) {
     const std::string name = fmt::format("plots/{}-{}.svg", base, energy ? "energy" : "l2");
-    const auto spec = error_plot(fmt::format("{}: {} error", title, energy ? "energy" : "L2"),
-                                 section.studies, energy);
+    const auto spec =
+        energy ? convergence_plot(
+                     title + ": energy error", section.studies, "relative energy error",
+                     [](const CaseResult& c) { return c.errors.energy_rel; },
+                     [](const Rates& r) { return r.energy; })
+               : convergence_plot(
+                     title + ": L2 error", section.studies, "relative L2 displacement error",
+                     [](const CaseResult& c) { return c.errors.l2_rel; },
+                     [](const Rates& r) { return r.l2; });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_{} plot skipped: {}_\n\n", energy ? "energy" : "L2", *why);
     else
@@ -179,23 +157,9 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
           "volume) and the method's quadrature points (stress, exact, error; stress points "
           "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
           "through the resolutions.\n\n";
-    for (const auto& s : section.studies) {
-      const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
-      fs::create_directories(dir / sub);
-      std::vector<std::pair<double, std::string>> entries;
-      for (std::size_t i = 0; i < s.cases.size(); ++i) {
-        const CaseResult& r = s.cases[i];
-        const std::string p = fmt::format("n{}.vtp", r.spec.nodes);
-        const std::string q = fmt::format("n{}-quadrature.vtp", r.spec.nodes);
-        write_particles_vtp(dir / sub / p, r);
-        write_quadrature_vtp(dir / sub / q, r);
-        entries.emplace_back(static_cast<double>(i), p);
-        entries.emplace_back(static_cast<double>(i), q);
-      }
-      write_pvd(dir / sub / "study.pvd", entries);
-      md += fmt::format("- `{}`: [{}/study.pvd]({}/study.pvd)\n", s.label, sub, sub);
-    }
-    md += "\n";
+    md += write_vtk_collections(dir, base, section.studies,
+                                {{".vtp", write_particles_vtp},
+                                 {"-quadrature.vtp", write_quadrature_vtp}});
   }
   return md;
 }

@@ -122,6 +122,13 @@ std::string fmt_fix(double v, int decimals) {
 
 std::string fmt_rate(double v) { return fmt_fix(v, 2); }
 
+std::string fmt_rates(const std::vector<double>& v) {
+  if (v.empty()) return "–";
+  std::string s;
+  for (double x : v) s += (s.empty() ? "" : ", ") + fmt_rate(x);
+  return s;
+}
+
 std::string fmt_seconds(double s) {
   if (!(s >= 0)) return kNoValue;
   if (std::isinf(s)) return "inf";

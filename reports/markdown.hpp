@@ -38,6 +38,9 @@ std::string fmt_fix(double v, int decimals);
 /// A convergence rate with 2 decimals: "2.01". NaN (too few resolutions) gives "–".
 std::string fmt_rate(double v);
 
+/// Rates joined by ", " ("1.96, 1.99, 2.00"); "–" for none.
+std::string fmt_rates(const std::vector<double>& v);
+
 /// A duration for people: "0.012 s", "3.4 s", "2 min 05 s", "1 h 02 min". Negative or NaN
 /// gives "–".
 std::string fmt_seconds(double s);

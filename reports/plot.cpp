@@ -209,24 +209,37 @@ std::optional<std::string> write_svg_plot(const fs::path& svg_path, const PlotSp
 }
 
 PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                          bool h1) {
+                          const std::string& ylabel,
+                          const std::function<double(const CaseResult&)>& error,
+                          const std::function<double(const Rates&)>& rate) {
   PlotSpec spec;
   spec.title = title;
   spec.xlabel = "h (nominal particle spacing)";
-  spec.ylabel = h1 ? "H1 seminorm error ||u_h' - u'||" : "L2 error ||u_h - u||";
+  spec.ylabel = ylabel;
   spec.logx = spec.logy = true;
   spec.style = "linespoints";
   for (const auto& study : studies) {
     Series s;
-    const double rate = h1 ? study.rates.h1_semi : study.rates.l2;
-    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(rate));
+    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(rate(study.rates)));
     for (const auto& c : study.cases) {
       s.x.push_back(c.h);
-      s.y.push_back(h1 ? c.errors.h1_semi : c.errors.l2);
+      s.y.push_back(error(c));
     }
     spec.series.push_back(std::move(s));
   }
   return spec;
+}
+
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          bool h1) {
+  if (h1)
+    return convergence_plot(
+        title, studies, "H1 seminorm error ||u_h' - u'||",
+        [](const CaseResult& c) { return c.errors.h1_semi; },
+        [](const Rates& r) { return r.h1_semi; });
+  return convergence_plot(
+      title, studies, "L2 error ||u_h - u||", [](const CaseResult& c) { return c.errors.l2; },
+      [](const Rates& r) { return r.l2; });
 }
 
 }  // namespace mfv

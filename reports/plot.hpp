@@ -1,6 +1,7 @@
 /// SVG plots drawn by gnuplot (found on PATH at run time), and the convergence plot of studies.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,5 +42,11 @@ std::optional<std::string> write_svg_plot(const std::filesystem::path& svg_path,
 /// error and rates.h1_semi. Errors are CaseResult::errors (the common fine rule).
 PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
                           bool h1);
+
+/// The same for any norm: `error` of each case against h, labelled with `rate` of each study.
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          const std::string& ylabel,
+                          const std::function<double(const CaseResult&)>& error,
+                          const std::function<double(const Rates&)>& rate);
 
 }  // namespace mfv

@@ -91,6 +91,26 @@ std::vector<PublishedComparison> compare_published(const Problem& problem,
   return out;
 }
 
+std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
+                                  const std::vector<StudyResult>& studies,
+                                  const std::vector<VtkPart>& parts) {
+  std::string md;
+  for (const auto& s : studies) {
+    const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
+    std::filesystem::create_directories(dir / sub);
+    std::vector<std::pair<double, std::string>> entries;
+    for (std::size_t i = 0; i < s.cases.size(); ++i)
+      for (const auto& [suffix, write] : parts) {
+        const std::string name = fmt::format("n{}{}", s.cases[i].spec.nodes, suffix);
+        write(dir / sub / name, s.cases[i]);
+        entries.emplace_back(static_cast<double>(i), name);
+      }
+    write_pvd(dir / sub / "study.pvd", entries);
+    md += fmt::format("- `{}`: [{}/study.pvd]({}/study.pvd)\n", s.label, sub, sub);
+  }
+  return md + "\n";
+}
+
 std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk) {
   namespace fs = std::filesystem;
@@ -162,14 +182,9 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "H1 rate", "H1 pairwise",
                      "L2 rate (paper rule)", "H1 rate (paper rule)"},
                     {'l', 'r', 'r', 'r', 'r', 'r', 'r'});
-    auto pairwise = [](const std::vector<double>& v) {
-      std::vector<std::string> s;
-      for (double x : v) s.push_back(fmt_rate(x));
-      return s.empty() ? std::string("–") : fmt::format("{}", fmt::join(s, ", "));
-    };
     for (const auto& s : section.studies)
-      t.add_row({s.label, fmt_rate(s.rates.l2), pairwise(s.rates.l2_pairwise),
-                 fmt_rate(s.rates.h1_semi), pairwise(s.rates.h1_semi_pairwise),
+      t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
+                 fmt_rate(s.rates.h1_semi), fmt_rates(s.rates.h1_semi_pairwise),
                  fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.h1_semi)});
     md += t.str() + "\n";
   }
@@ -229,23 +244,8 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
     md += "### VTK files\n\nParticles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
           "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
           "through the resolutions.\n\n";
-    for (const auto& s : section.studies) {
-      const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
-      fs::create_directories(dir / sub);
-      std::vector<std::pair<double, std::string>> entries;
-      for (std::size_t i = 0; i < s.cases.size(); ++i) {
-        const CaseResult& r = s.cases[i];
-        const std::string p = fmt::format("n{}.vtp", r.spec.nodes);
-        const std::string l = fmt::format("n{}-line.vtp", r.spec.nodes);
-        write_case_vtp(dir / sub / p, r);
-        write_line_vtp(dir / sub / l, r);
-        entries.emplace_back(static_cast<double>(i), p);
-        entries.emplace_back(static_cast<double>(i), l);
-      }
-      write_pvd(dir / sub / "study.pvd", entries);
-      md += fmt::format("- `{}`: [{}/study.pvd]({}/study.pvd)\n", s.label, sub, sub);
-    }
-    md += "\n";
+    md += write_vtk_collections(dir, base, section.studies,
+                                {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
   }
   return md;
 }

@@ -2,6 +2,7 @@
 /// times per method × resolution, published values beside ours, convergence plots, VTK files.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,15 @@ struct PublishedComparison {
 /// (relative H1 seminorm).
 std::vector<PublishedComparison> compare_published(const Problem& problem,
                                                    const std::vector<StudyResult>& studies);
+
+/// One VTK file per resolution: its name suffix ("-line.vtp") and its writer.
+using VtkPart = std::pair<std::string, std::function<void(const std::filesystem::path&,
+                                                          const CaseResult&)>>;
+/// Writes vtk/<base>/<study>/n<nodes><suffix> for every part and resolution and a study.pvd
+/// stepping through the resolutions; returns the Markdown list of links to the .pvd files.
+std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
+                                  const std::vector<StudyResult>& studies,
+                                  const std::vector<VtkPart>& parts);
 
 /// Summaries of studies for a problem's findings (finest case, rates on the common rule).
 std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies);

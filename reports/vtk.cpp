@@ -136,6 +136,14 @@ void add_vector_array(vtkPolyData* pd, const char* name, const Eigen::MatrixXd& 
   pd->GetPointData()->AddArray(a);
 }
 
+/// `name`, `name`_exact and `name`_error (computed - exact) as 3-vectors.
+void add_with_error(vtkPolyData* pd, const std::string& name, const Eigen::MatrixXd& computed,
+                    const Eigen::MatrixXd& exact, const fs::path& path) {
+  add_vector_array(pd, name.c_str(), computed, 3, path);
+  add_vector_array(pd, (name + "_exact").c_str(), exact, 3, path);
+  add_vector_array(pd, (name + "_error").c_str(), computed - exact, 3, path);
+}
+
 }  // namespace
 
 void write_particles_vtp(const fs::path& path, const CaseResult& r) {
@@ -146,12 +154,8 @@ void write_particles_vtp(const fs::path& path, const CaseResult& r) {
                                             path.string()));
   vtkNew<vtkPolyData> pd;
   set_points_2d(pd, f.points);
-  add_vector_array(pd, "displacement", f.disp_h, 3, path);
-  add_vector_array(pd, "displacement_exact", f.disp_exact, 3, path);
-  add_vector_array(pd, "displacement_error", f.disp_h - f.disp_exact, 3, path);
-  add_vector_array(pd, "stress", f.stress_h, 3, path);
-  add_vector_array(pd, "stress_exact", f.stress_exact, 3, path);
-  add_vector_array(pd, "stress_error", f.stress_h - f.stress_exact, 3, path);
+  add_with_error(pd, "displacement", f.disp_h, f.disp_exact, path);
+  add_with_error(pd, "stress", f.stress_h, f.stress_exact, path);
   add_point_array(pd, "volume", f.volume, path);
   add_field_data(pd, r);
   write_polydata(path, pd);
@@ -165,9 +169,7 @@ void write_quadrature_vtp(const fs::path& path, const CaseResult& r) {
                                             path.string()));
   vtkNew<vtkPolyData> pd;
   set_points_2d(pd, f.q_points);
-  add_vector_array(pd, "stress", f.q_stress_h, 3, path);
-  add_vector_array(pd, "stress_exact", f.q_stress_exact, 3, path);
-  add_vector_array(pd, "stress_error", f.q_stress_h - f.q_stress_exact, 3, path);
+  add_with_error(pd, "stress", f.q_stress_h, f.q_stress_exact, path);
   Eigen::VectorXd is_particle = Eigen::VectorXd::Zero(f.q_points.cols());
   const Eigen::Index np =
       r.quadrature_kind == "gauss-cells" ? 0 : std::min<Eigen::Index>(r.particles, f.q_points.cols());
