@@ -68,6 +68,8 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
   using Trip = Eigen::Triplet<double>;
   std::vector<Trip> trip;
   Eigen::SparseMatrix<double> A;
+  // The largest stiffness diagonal: the scale of the constraint rows and of the penalty.
+  const double kmax = n > 0 ? sys.K.diagonal().cwiseAbs().maxCoeff() : 0.0;
   Eigen::VectorXd b;
   if (d.essential == EssentialBC::lagrange || d.particle_values) {
     // [K G; Gᵀ 0] [u; λ] = [f; g]: λ_b is the reaction at x_b.
@@ -77,8 +79,6 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
       for (Eigen::SparseMatrix<double>::InnerIterator it(sys.K, k); it; ++it)
         trip.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
     // Scale the constraint rows like the stiffness so the pivots stay balanced.
-    double kmax = 0;
-    for (int i = 0; i < n; ++i) kmax = std::max(kmax, std::abs(sys.K.coeff(i, i)));
     const double s = kmax > 0 ? kmax : 1.0;
     for (int bq = 0; bq < nb; ++bq) {
       for (int k = g.offsets[bq]; k < g.offsets[bq + 1]; ++k)
@@ -91,8 +91,6 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
     b << sys.f, s * sys.constraint_values;
   } else {
     // K + β G Gᵀ, β = penalty × the largest diagonal entry of K.
-    double kmax = 0;
-    for (int i = 0; i < n; ++i) kmax = std::max(kmax, std::abs(sys.K.coeff(i, i)));
     const double beta = d.penalty * std::max(kmax, 1.0);
     A = sys.K;
     b = sys.f;
