@@ -15,6 +15,7 @@
 #include "methods/core/registry.hpp"
 #include "methods/materials/linear_elastic.hpp"
 #include "methods/methods/method.hpp"
+#include "verify/case.hpp"
 
 namespace mfv {
 
@@ -40,6 +41,9 @@ struct PublishedValue {
   int nodes = 0;          ///< resolution
   double value = 0;
   std::string note;       ///< e.g. "norm not stated"
+  /// Problem parameters the value belongs to (e.g. loading=gaussian); a case matches when
+  /// it set each of them to the same value or left it at its default.
+  Params problem_params;
 };
 
 /// One refinement study as the findings see it (built by the reports from a StudyResult).
@@ -50,6 +54,9 @@ struct StudySummary {
   int finest_nodes = 0, finest_particles = 0, resolutions = 0;
   double l2_rate = NAN, energy_rate = NAN;          ///< common rule
   double l2_rel_finest = NAN, energy_rel_finest = NAN;
+  Params problem_params;  ///< as given
+  /// Headline values of each resolution, coarsest first (transient verdicts read them).
+  std::vector<std::map<std::string, double>> headlines;
 };
 
 /// What a finding says about our run.
@@ -106,6 +113,15 @@ class Problem {
   /// What `nodes` counts, for reports ("nodes", "particles across the depth").
   virtual std::string resolution_name() const { return "nodes"; }
   virtual AssembledSystem assemble(const Discretization& d) const = 0;
+  /// Transient problems (explicit dynamics, problems/transient.hpp) return true: the runner
+  /// then calls simulate instead of assemble and the linear solve.
+  virtual bool transient() const { return false; }
+  /// Runs `method` (whose discretization at t = 0 is `d`) through the problem's loading and
+  /// fills r.errors (relative L2 of the problem's main field), r.headline, r.cpu.assembly
+  /// (engine set-up), r.cpu.solve (time loop) and r.transient.
+  virtual void simulate(const Method& method, Discretization d, CaseResult& r) const {
+    throw std::logic_error("simulate called on a static problem");
+  }
   /// Node counts of a refinement study.
   virtual std::vector<int> resolutions(Level level) const = 0;
   /// Problem-specific headline quantities of a solution (name → value), e.g. peak u'.
@@ -129,6 +145,7 @@ void register_laplace_tanh(ProblemRegistry&);
 void register_advection_diffusion(ProblemRegistry&);
 void register_cantilever(ProblemRegistry&);
 void register_elastic_patch(ProblemRegistry&);
+void register_rod_pulse(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -136,6 +153,7 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_advection_diffusion(r);
   register_cantilever(r);
   register_elastic_patch(r);
+  register_rod_pulse(r);
 }
 
 /// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,

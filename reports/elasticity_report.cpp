@@ -32,6 +32,8 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
     m.energy_rate = s.rates.energy;
     m.l2_rel_finest = f.errors.l2_rel;
     m.energy_rel_finest = f.errors.energy_rel;
+    m.problem_params = f.spec.problem_params;
+    for (const auto& c : s.cases) m.headlines.push_back(c.headline);
     out.push_back(std::move(m));
   }
   return out;

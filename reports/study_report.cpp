@@ -82,6 +82,12 @@ std::vector<PublishedComparison> compare_published(const Problem& problem,
       for (const auto& r : s.cases) {
         if (r.spec.method != pv.method || r.spec.nodes != pv.nodes) continue;
         if (!params_match(r.method_params, pv.method_params)) continue;
+        bool same_problem = true;
+        for (const auto& [k, v] : pv.problem_params.values())
+          if (r.spec.problem_params.has(k) &&
+              format_value(r.spec.problem_params.values().at(k)) != format_value(v))
+            same_problem = false;
+        if (!same_problem) continue;
         out.push_back({pv, s.label, our_value(r, pv.quantity)});
         matched = true;
       }

@@ -73,6 +73,24 @@ struct CaseFields {
   std::vector<std::string> stress_names;
 };
 
+/// What a transient (explicit dynamics) case records besides errors and headline values.
+struct TransientData {
+  double dt = 0, dt_critical = 0, end_time = 0;
+  long steps = 0, retabulations = 0;
+  std::string dynamics;  ///< the engine's description (frame, integrator, material, viscosity)
+  /// Time histories: columns "time", "kinetic", "internal work", "external work",
+  /// "energy balance", then the problem's probes; one row per sample.
+  std::vector<std::string> history_columns;
+  std::vector<std::vector<double>> history;
+  /// Particle snapshots for VTK time series: positions and named arrays (components × N).
+  struct Frame {
+    double time = 0;
+    Eigen::MatrixXd x;
+    std::vector<std::pair<std::string, Eigen::MatrixXd>> data;
+  };
+  std::vector<Frame> frames;
+};
+
 struct CaseResult {
   CaseSpec spec;
   Params method_params;            ///< resolved, with defaults
@@ -88,6 +106,7 @@ struct CaseResult {
   Timings cpu;
   SolveInfo solve;
   CaseFields fields;
+  TransientData transient;  ///< transient problems only (steps > 0)
 };
 
 /// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the

@@ -4,6 +4,7 @@
 #include <functional>
 #include <vector>
 
+#include "methods/materials/material.hpp"
 #include "methods/methods/register.hpp"
 #include "problems/problem.hpp"
 
@@ -32,6 +33,7 @@ class Catalogue {
     for (const auto& f : extra.methods) f(methods, parts());
     register_all_problems(problems);
     for (const auto& f : extra.problems) f(problems);
+    register_all_materials(materials);
   }
   // Factories hold references into this object, so it stays where it was built.
   Catalogue(const Catalogue&) = delete;
@@ -44,6 +46,7 @@ class Catalogue {
   IntegrationRegistry integrations{"integration scheme"};
   MethodRegistry methods{"method"};
   ProblemRegistry problems{"problem"};
+  MaterialRegistry materials{"material"};
 };
 
 }  // namespace mfv

@@ -110,6 +110,11 @@ const std::string& Params::text(const std::string& key) const {
 
 Params Params::resolve(const ParamSchema& schema, const std::string& owner) const {
   Params out;
+  for (std::size_t i = 0; i < schema.size(); ++i)
+    for (std::size_t j = i + 1; j < schema.size(); ++j)
+      if (schema[i].name == schema[j].name)
+        throw std::logic_error(fmt::format("{} declares parameter '{}' twice", owner,
+                                           schema[i].name));
   for (const auto& [key, value] : values_) {
     bool known = false;
     for (const auto& s : schema) known = known || s.name == key;

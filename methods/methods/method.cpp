@@ -85,10 +85,14 @@ class GalerkinMethod final : public Method {
     d.trial = r_.trial;
     d.test = r_.test ? r_.test : r_.trial;
     d.form = r_.test ? Form::petrov_galerkin : Form::galerkin;
-    d.trial_q = r_.trial->evaluate(particles, d.quadrature.points, order);
-    d.test_q = r_.test ? r_.test->evaluate(particles, d.quadrature.points, order) : d.trial_q;
     d.particles = std::move(particles);
+    retabulate(d, order);
     return d;
+  }
+
+  void retabulate(Discretization& d, int order) const override {
+    d.trial_q = r_.trial->evaluate(d.particles, d.quadrature.points, order);
+    d.test_q = r_.test ? r_.test->evaluate(d.particles, d.quadrature.points, order) : d.trial_q;
   }
 
  private:
@@ -106,6 +110,8 @@ class ParticleMethod final : public Method {
     r_.build(d, order);
     return d;
   }
+
+  void retabulate(Discretization& d, int order) const override { r_.build(d, order); }
 
  private:
   ParticleRecipe r_;

@@ -69,6 +69,10 @@ class Method {
   /// shape function tables up to derivative `order` (the weak form's need).
   virtual Discretization discretize(const Domain& domain, ParticleSet particles,
                                     int order) const = 0;
+  /// Eulerian kernels (001 Table 2): recomputes the tables of `d` at its current particle
+  /// positions and volumes and its current quadrature points and weights (the caller moves
+  /// them), keeping the dilations, the rule's points and the method's composition.
+  virtual void retabulate(Discretization& d, int order) const = 0;
 };
 
 using MethodRegistry = Registry<Method>;

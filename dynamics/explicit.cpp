@@ -1,0 +1,548 @@
+#include "dynamics/explicit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "methods/core/errors.hpp"
+#include "methods/neighbours.hpp"
+
+namespace mfv {
+
+namespace {
+
+constexpr int kChunk = 256;  // integration points per material call
+
+/// Kinematics and stresses of one chunk of points [q0, q1): the deformation gradient (from u
+/// in the Lagrangian frame, from the increment du and the stored F in the Eulerian one), the
+/// material's P, prestress, viscosity, and the stress the force sums.
+template <int D>
+struct PointKernel {
+  const int* offsets;
+  const int* index;
+  const double* grad;
+  bool eulerian;
+  const double* S0;  // D×D column-major or null
+  double visc_alpha, visc_beta, length, wave_speed, density, dt;
+
+  void deformation(int q, const double* u, const double* du, const double* Fc, double* F,
+                   double* L) const {
+    double H[D * D] = {};
+    const double* src = eulerian ? du : u;
+    for (int k = offsets[q]; k < offsets[q + 1]; ++k) {
+      const double* uj = src + D * index[k];
+      const double* g = grad + D * k;
+      for (int j = 0; j < D; ++j)
+        for (int i = 0; i < D; ++i) H[i + D * j] += uj[i] * g[j];
+    }
+    if (!eulerian) {
+      for (int e = 0; e < D * D; ++e) F[e] = H[e];
+      for (int i = 0; i < D; ++i) F[i + D * i] += 1;
+      if (L) {  // Ḟ = Σ v ⊗ ∇₀N with v ≈ du/dt; L = Ḟ F⁻¹
+        double Fd[D * D] = {};
+        for (int k = offsets[q]; k < offsets[q + 1]; ++k) {
+          const double* uj = du + D * index[k];
+          const double* g = grad + D * k;
+          for (int j = 0; j < D; ++j)
+            for (int i = 0; i < D; ++i) Fd[i + D * j] += uj[i] * g[j] / dt;
+        }
+        double Fi[D * D];
+        invert(F, Fi);
+        multiply(Fd, Fi, L);
+      }
+      return;
+    }
+    // F ← (I + ΔH) F_committed, ΔH = Σ Δu_J ⊗ ∇N_J(x_q) (Table 2's L times dt).
+    double A[D * D];
+    for (int e = 0; e < D * D; ++e) A[e] = H[e];
+    for (int i = 0; i < D; ++i) A[i + D * i] += 1;
+    multiply(A, Fc + D * D * q, F);
+    if (L)
+      for (int e = 0; e < D * D; ++e) L[e] = H[e] / dt;
+  }
+
+  static void multiply(const double* A, const double* B, double* C) {
+    for (int j = 0; j < D; ++j)
+      for (int i = 0; i < D; ++i) {
+        double s = 0;
+        for (int k = 0; k < D; ++k) s += A[i + D * k] * B[k + D * j];
+        C[i + D * j] = s;
+      }
+  }
+  static double det(const double* F) {
+    if constexpr (D == 1) return F[0];
+    else return F[0] * F[3] - F[1] * F[2];
+  }
+  static void invert(const double* F, double* Fi) {
+    if constexpr (D == 1) {
+      Fi[0] = 1 / F[0];
+    } else {
+      const double J = det(F);
+      Fi[0] = F[3] / J;
+      Fi[1] = -F[1] / J;
+      Fi[2] = -F[2] / J;
+      Fi[3] = F[0] / J;
+    }
+  }
+
+  /// P → the summed stress: P (+ F S₀ + viscosity) in the Lagrangian frame, τ = P Fᵀ in the
+  /// Eulerian one (the reference weight times τ is the current weight times σ).
+  void finish(const double* F, double* P, const double* L) const {
+    if (S0) {
+      double FS[D * D];
+      multiply(F, S0, FS);
+      for (int e = 0; e < D * D; ++e) P[e] += FS[e];
+    }
+    const double J = det(F);
+    double q = 0;
+    if (L && (visc_alpha > 0 || visc_beta > 0)) {
+      double div = 0;
+      for (int i = 0; i < D; ++i) div += L[i + D * i];
+      if (div < 0)
+        q = density / J * (visc_beta * length * length * div * div -
+                           visc_alpha * wave_speed * length * div);
+    }
+    if (!eulerian) {
+      if (q != 0) {  // P_v = −q J F⁻ᵀ
+        double Fi[D * D];
+        invert(F, Fi);
+        for (int j = 0; j < D; ++j)
+          for (int i = 0; i < D; ++i) P[i + D * j] -= q * J * Fi[j + D * i];
+      }
+      return;
+    }
+    double tau[D * D];
+    for (int j = 0; j < D; ++j)
+      for (int i = 0; i < D; ++i) {
+        double s = 0;
+        for (int k = 0; k < D; ++k) s += P[i + D * k] * F[j + D * k];
+        tau[i + D * j] = s;
+      }
+    for (int i = 0; i < D; ++i) tau[i + D * i] -= q * J;
+    for (int e = 0; e < D * D; ++e) P[e] = tau[e];
+  }
+};
+
+template <int D>
+void compute_points(const PointKernel<D>& k, const Material& material, int nq, const double* u,
+                    const double* du, const double* Fc, double* F, double* stress, double* state,
+                    int state_size, bool viscosity, int threads) {
+  const int chunks = (nq + kChunk - 1) / kChunk;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (int c = 0; c < chunks; ++c) {
+    const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
+    double Lbuf[kChunk * D * D];
+    for (int q = q0; q < q1; ++q)
+      k.deformation(q, u, du, Fc, F + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+    material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
+                         state ? state + static_cast<long>(state_size) * q0 : nullptr);
+    for (int q = q0; q < q1; ++q)
+      k.finish(F + D * D * q, stress + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+  }
+}
+
+template <int D>
+void gather_forces(int n, const int* offsets, const int* point, const double* grad,
+                   const double* stress, double* f, int threads) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (int I = 0; I < n; ++I) {
+    double fi[D] = {};
+    for (int e = offsets[I]; e < offsets[I + 1]; ++e) {
+      const double* S = stress + D * D * point[e];
+      const double* g = grad + D * e;
+      for (int j = 0; j < D; ++j)
+        for (int i = 0; i < D; ++i) fi[i] += S[i + D * j] * g[j];
+    }
+    for (int i = 0; i < D; ++i) f[D * I + i] = fi[i];
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd lumped_masses(const ParticleSet& particles, double density, MassLumping lumping) {
+  if (lumping == MassLumping::volume) return density * particles.volume;
+  return Eigen::VectorXd::Constant(particles.size(),
+                                   density * particles.volume.sum() / particles.size());
+}
+
+KernelFrame kernel_frame_from(const std::string& name) {
+  if (name == "lagrangian") return KernelFrame::lagrangian;
+  if (name == "eulerian") return KernelFrame::eulerian;
+  throw InputError(fmt::format("unknown kernel frame '{}'; valid: lagrangian, eulerian", name));
+}
+
+TimeIntegrator time_integrator_from(const std::string& name) {
+  if (name == "verlet") return TimeIntegrator::verlet;
+  if (name == "newmark") return TimeIntegrator::newmark;
+  throw InputError(fmt::format("unknown time integrator '{}'; valid: verlet, newmark", name));
+}
+
+ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, DynamicsModel model,
+                                   DynamicsOptions options)
+    : method_(method), d_(std::move(d)), model_(std::move(model)), opt_(options) {
+  dim_ = d_.particles.dim;
+  n_ = d_.particles.size();
+  nq_ = d_.quadrature.size();
+  if (dim_ != 1 && dim_ != 2)
+    throw InputError(fmt::format("explicit dynamics supports 1D and 2D, not {}D", dim_));
+  if (!model_.material) throw InputError("explicit dynamics needs a material");
+  if (model_.mass.size() != n_ || (model_.mass.array() <= 0).any())
+    throw InputError(fmt::format("explicit dynamics needs a positive lumped mass for each of the "
+                                 "{} particles (got {} values); use lumped_masses",
+                                 n_, model_.mass.size()));
+  if (model_.initial_stress.size() != 0 &&
+      (model_.initial_stress.rows() != dim_ || model_.initial_stress.cols() != dim_))
+    throw InputError(fmt::format("initial stress must be {0}×{0}", dim_));
+  if (opt_.update_every < 1)
+    throw InputError(fmt::format("update_every = {} must be at least 1", opt_.update_every));
+  if (opt_.newmark_gamma < 0.5)
+    throw InputError(fmt::format("Newmark gamma = {} below 1/2 is unstable; use 0.5 or more",
+                                 opt_.newmark_gamma));
+  if (opt_.threads <= 0) opt_.threads = omp_get_max_threads();
+  spacing_ = d_.particles.spacing;
+  wave_speed_ = model_.material->wave_speed(dim_, model_.density);
+  const int m = dim_ * n_;
+  u_ = v_ = a_ = f_int_ = f_ext_ = Eigen::VectorXd::Zero(m);
+  inv_mass_.resize(m);
+  for (int I = 0; I < n_; ++I)
+    for (int c = 0; c < dim_; ++c) inv_mass_[dim_ * I + c] = 1 / model_.mass[I];
+  prescribed_mask_.assign(m, 0);
+  for (const PrescribedVelocity& p : model_.prescribed) {
+    if (p.particle < 0 || p.particle >= n_ || p.component < 0 || p.component >= dim_)
+      throw InputError(fmt::format("prescribed velocity of particle {} component {} is outside "
+                                   "the {} particles × {} components",
+                                   p.particle, p.component, n_, dim_));
+  }
+  X_ = d_.particles.x;
+  Xq_ = d_.quadrature.points;
+  V0_ = d_.particles.volume;
+  w0_ = d_.quadrature.weights;
+  if (!d_.particle_values) values_at_particles_ = d_.trial_at(X_, 0);
+  const int dd = dim_ * dim_;
+  F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
+  for (int q = 0; q < nq_; ++q)
+    for (int i = 0; i < dim_; ++i) F_[dd * q + i * (dim_ + 1)] = 1;
+  committed_F_ = F_;
+  stress_.assign(F_.size(), 0.0);
+  scratch_F_.assign(F_.size(), 0.0);
+  const int ns = model_.material->state_size(dim_);
+  state_.assign(static_cast<std::size_t>(ns) * nq_, 0.0);
+  build_force_tables();
+  apply_prescribed(0, v_, a_);
+  internal_force(u_, Eigen::VectorXd::Zero(m), 0, true, f_int_);
+  external_force(0, f_ext_);
+  a_ = ((f_ext_ - f_int_).array() * inv_mass_.array()).matrix();
+  apply_prescribed(0, v_, a_);
+  energy_.initial = kinetic_energy();
+}
+
+void ExplicitDynamics::build_force_tables() {
+  const ShapeTable& t = d_.test_q;
+  if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
+    throw std::logic_error("explicit dynamics needs first derivatives of the test functions");
+  tt_offsets_.assign(n_ + 1, 0);
+  for (int e = 0; e < t.entries(); ++e) ++tt_offsets_[t.index[e] + 1];
+  for (int I = 0; I < n_; ++I) tt_offsets_[I + 1] += tt_offsets_[I];
+  tt_point_.resize(t.entries());
+  tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
+  std::vector<int> next(tt_offsets_.begin(), tt_offsets_.end() - 1);
+  for (int q = 0; q < nq_; ++q)
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+      const int slot = next[t.index[e]]++;
+      tt_point_[slot] = q;
+      for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
+    }
+}
+
+void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,
+                                      double dt, bool commit, Eigen::VectorXd& f) const {
+  const ShapeTable& t = d_.trial_q;
+  const bool eulerian = opt_.frame == KernelFrame::eulerian;
+  const bool viscosity = opt_.viscosity.enabled() && dt > 0;
+  const double* S0 = model_.initial_stress.size() ? model_.initial_stress.data() : nullptr;
+  double* F = commit ? F_.data() : scratch_F_.data();
+  // A trial evaluation must not move the material's history: it works on a copy.
+  std::vector<double> trial_state;
+  double* state = nullptr;
+  if (!state_.empty()) {
+    if (commit) {
+      state = state_.data();
+    } else {
+      trial_state = state_;
+      state = trial_state.data();
+    }
+  }
+  const int ns = model_.material->state_size(dim_);
+  f.resize(dim_ * n_);
+  if (dim_ == 1) {
+    PointKernel<1> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
+                     opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
+                     model_.density, dt};
+    compute_points<1>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
+                      stress_.data(), state, ns, viscosity, opt_.threads);
+    gather_forces<1>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
+                     f.data(), opt_.threads);
+  } else {
+    PointKernel<2> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
+                     opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
+                     model_.density, dt};
+    compute_points<2>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
+                      stress_.data(), state, ns, viscosity, opt_.threads);
+    gather_forces<2>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
+                     f.data(), opt_.threads);
+  }
+}
+
+void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
+  f.setZero(dim_ * n_);
+  if (model_.external_force) model_.external_force(t, f);
+}
+
+void ExplicitDynamics::apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const {
+  for (const PrescribedVelocity& p : model_.prescribed)
+    if (t < p.until) {
+      v[dim_ * p.particle + p.component] = p.value;
+      a[dim_ * p.particle + p.component] = 0;
+    }
+}
+
+void ExplicitDynamics::set_particle_velocity(const Eigen::MatrixXd& v) {
+  if (v.rows() != dim_ || v.cols() != n_)
+    throw InputError(fmt::format("initial velocity must be {} × {} (components × particles), got "
+                                 "{} × {}",
+                                 dim_, n_, v.rows(), v.cols()));
+  if (d_.particle_values) {
+    v_ = Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
+  } else {
+    const ShapeTable& t = values_at_particles_;
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(t.entries());
+    for (int I = 0; I < n_; ++I)
+      for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
+        trip.emplace_back(I, t.index[e], t.value[e]);
+    Eigen::SparseMatrix<double> A(n_, n_);
+    A.setFromTriplets(trip.begin(), trip.end());
+    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> solver;
+    solver.setTolerance(1e-12);
+    solver.compute(A);
+    for (int c = 0; c < dim_; ++c) {
+      const Eigen::VectorXd rhs = v.row(c).transpose();
+      if (rhs.norm() == 0) continue;
+      const Eigen::VectorXd x = solver.solve(rhs);
+      if (solver.info() != Eigen::Success || !x.allFinite())
+        throw SingularError("could not fit nodal velocities to the particle velocities (the "
+                            "shape-function values at the particles are singular)");
+      for (int I = 0; I < n_; ++I) v_[dim_ * I + c] = x[I];
+    }
+  }
+  apply_prescribed(t_, v_, a_);
+  energy_.initial = kinetic_energy() - energy_.internal_work + energy_.external_work;
+}
+
+double ExplicitDynamics::max_eigenvalue(int iterations) const {
+  const int m = dim_ * n_;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  Eigen::VectorXd x(m);
+  for (int i = 0; i < m; ++i) x[i] = prescribed_mask_[i] ? 0 : uni(rng);
+  for (const PrescribedVelocity& p : model_.prescribed) x[dim_ * p.particle + p.component] = 0;
+  Eigen::VectorXd fp(m), fm(m), Kx(m);
+  const bool eulerian = opt_.frame == KernelFrame::eulerian;
+  double lambda = 0;
+  for (int it = 0; it < iterations; ++it) {
+    x /= x.norm();
+    const double eps = 1e-7 * std::max(spacing_, 1e-300);
+    const Eigen::VectorXd du = eps * x;
+    if (eulerian) {
+      internal_force(u_, du, 0, false, fp);
+      internal_force(u_, -du, 0, false, fm);
+    } else {
+      internal_force(u_ + du, du, 0, false, fp);
+      internal_force(u_ - du, -du, 0, false, fm);
+    }
+    Kx = (fp - fm) / (2 * eps);
+    for (const PrescribedVelocity& p : model_.prescribed) Kx[dim_ * p.particle + p.component] = 0;
+    const Eigen::VectorXd Mx = x.cwiseQuotient(inv_mass_);
+    lambda = x.dot(Kx) / x.dot(Mx);
+    x = Kx.cwiseProduct(inv_mass_);
+    if (x.norm() == 0) return 0;
+  }
+  // The finite differences moved the scratch buffers only; the committed stress is restored.
+  Eigen::VectorXd f(m);
+  internal_force(u_, Eigen::VectorXd::Zero(m), 0, false, f);
+  return lambda;
+}
+
+double ExplicitDynamics::critical_time_step(int iterations) const {
+  const double l = max_eigenvalue(iterations);
+  if (!(l > 0)) throw SingularError("the stiffness has no positive eigenvalue: no critical step");
+  return 2 / std::sqrt(l);
+}
+
+void ExplicitDynamics::step(double dt) {
+  if (!(dt > 0)) throw InputError(fmt::format("time step {} must be positive", dt));
+  const int m = dim_ * n_;
+  Eigen::VectorXd& du = du_;
+  Eigen::VectorXd& f_new = f_new_;
+  Eigen::VectorXd& fe_new = fe_new_;
+  Eigen::VectorXd& v_pred = v_pred_;
+  du.resize(m);
+  f_new.resize(m);
+  fe_new.resize(m);
+  // Predictor: u_{n+1} = u_n + dt v_n + dt²/2 a_n (both schemes), velocities at the half step
+  // (Verlet) or the Newmark predictor v_n + (1 − γ) dt a_n.
+  const double gamma = opt_.integrator == TimeIntegrator::verlet ? 0.5 : opt_.newmark_gamma;
+  v_pred = v_ + (1 - gamma) * dt * a_;
+  du = dt * v_ + 0.5 * dt * dt * a_;
+  u_ += du;
+  internal_force(u_, du, dt, true, f_new);
+  committed_F_ = F_;
+  external_force(t_ + dt, fe_new);
+  Eigen::VectorXd& a_new = a_;
+  // Energy: trapezoidal work of the internal and external forces over du; at prescribed
+  // unknowns the support does the work (its reaction is f_int − f_ext there).
+  energy_.internal_work += 0.5 * (f_int_ + f_new).dot(du);
+  double ext = 0.5 * (f_ext_ + fe_new).dot(du);
+  for (const PrescribedVelocity& p : model_.prescribed)
+    if (t_ < p.until) {
+      const int i = dim_ * p.particle + p.component;
+      ext += 0.5 * ((f_int_[i] - f_ext_[i]) + (f_new[i] - fe_new[i])) * du[i];
+    }
+  energy_.external_work += ext;
+  a_new = ((fe_new - f_new).array() * inv_mass_.array()).matrix();
+  v_ = v_pred + gamma * dt * a_new;
+  f_int_ = f_new;
+  f_ext_ = fe_new;
+  t_ += dt;
+  apply_prescribed(t_, v_, a_);
+  ++counters_.steps;
+  counters_.force_evaluations += 1;
+  if (opt_.frame == KernelFrame::eulerian && counters_.steps % opt_.update_every == 0) retabulate();
+  energy_.kinetic = kinetic_energy();
+}
+
+void ExplicitDynamics::retabulate() {
+  const int dd = dim_ * dim_;
+  auto jac = [&](int q) {
+    const double* F = F_.data() + dd * q;
+    return dim_ == 1 ? F[0] : F[0] * F[3] - F[1] * F[2];
+  };
+  Eigen::MatrixXd x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
+  Eigen::VectorXd V = V0_;
+  const int nodal = d_.quadrature.nodal_points;
+  for (int I = 0; I < std::min(n_, nodal); ++I) V[I] *= jac(I);
+  Eigen::MatrixXd xq = Xq_;
+  const ShapeTable& t = d_.trial_q;
+  const bool values = static_cast<int>(t.value.size()) == t.entries();
+  for (int q = 0; q < nq_; ++q) {
+    if (q < nodal) {
+      xq.col(q) = x.col(q);
+      continue;
+    }
+    if (!values) continue;
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
+      for (int c = 0; c < dim_; ++c) xq(c, q) += t.value[e] * u_[dim_ * t.index[e] + c];
+  }
+  d_.particles.x = x;
+  d_.particles.volume = V;
+  d_.quadrature.points = xq;
+  for (int q = 0; q < nq_; ++q) d_.quadrature.weights[q] = w0_[q] * jac(q);
+  method_.retabulate(d_, 1);
+  if (d_.trial_q.points() != nq_ || d_.test_q.points() != nq_)
+    throw std::logic_error("a method's retabulation changed its integration points");
+  build_force_tables();
+  ++counters_.retabulations;
+}
+
+double ExplicitDynamics::kinetic_energy() const {
+  double k = 0;
+  for (int I = 0; I < n_; ++I)
+    for (int c = 0; c < dim_; ++c) k += 0.5 * model_.mass[I] * v_[dim_ * I + c] * v_[dim_ * I + c];
+  return k;
+}
+
+namespace {
+Eigen::MatrixXd field_at_particles(const ShapeTable& t, bool particle_values, int dim, int n,
+                                   const Eigen::VectorXd& u) {
+  Eigen::MatrixXd out = Eigen::Map<const Eigen::MatrixXd>(u.data(), dim, n);
+  if (particle_values) return out;
+  out.setZero();
+  for (int I = 0; I < n; ++I)
+    for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
+      for (int c = 0; c < dim; ++c) out(c, I) += t.value[e] * u[dim * t.index[e] + c];
+  return out;
+}
+}  // namespace
+
+Eigen::MatrixXd ExplicitDynamics::particle_velocity() const {
+  return field_at_particles(values_at_particles_, d_.particle_values, dim_, n_, v_);
+}
+
+Eigen::MatrixXd ExplicitDynamics::particle_displacement() const {
+  return field_at_particles(values_at_particles_, d_.particle_values, dim_, n_, u_);
+}
+
+Eigen::MatrixXd ExplicitDynamics::particle_positions() const {
+  return X_ + particle_displacement();
+}
+
+Eigen::MatrixXd ExplicitDynamics::point_cauchy_stress() const {
+  const int dd = dim_ * dim_;
+  Eigen::MatrixXd s(dd, nq_);
+  for (int q = 0; q < nq_; ++q) {
+    Eigen::Map<const Eigen::MatrixXd> F(F_.data() + dd * q, dim_, dim_);
+    Eigen::Map<const Eigen::MatrixXd> S(stress_.data() + dd * q, dim_, dim_);
+    const double J = F.determinant();
+    Eigen::MatrixXd sigma =
+        opt_.frame == KernelFrame::eulerian ? Eigen::MatrixXd(S / J)
+                                            : Eigen::MatrixXd(S * F.transpose() / J);
+    s.col(q) = Eigen::Map<const Eigen::VectorXd>(sigma.data(), dd);
+  }
+  return s;
+}
+
+Eigen::MatrixXd ExplicitDynamics::particle_cauchy_stress() const {
+  const Eigen::MatrixXd s = point_cauchy_stress();
+  const int nodal = d_.quadrature.nodal_points;
+  if (nodal >= n_) return s.leftCols(n_);
+  // Cell rules: the nearest integration point's value (pictures only).
+  ParticleSet pts;
+  pts.dim = dim_;
+  pts.x = Xq_;
+  const NeighbourSearch search(pts);
+  Eigen::MatrixXd out(s.rows(), n_);
+  std::vector<int> near;
+  for (int I = 0; I < n_; ++I) {
+    double radius = spacing_ > 0 ? spacing_ : 1.0;
+    for (near.clear(); near.empty(); radius *= 2) search.within(X_.col(I).data(), radius, near);
+    int best = near.front();
+    for (int q : near)
+      if ((Xq_.col(q) - X_.col(I)).squaredNorm() < (Xq_.col(best) - X_.col(I)).squaredNorm())
+        best = q;
+    out.col(I) = s.col(best);
+  }
+  return out;
+}
+
+std::string ExplicitDynamics::description() const {
+  std::string visc = opt_.viscosity.enabled()
+                         ? fmt::format("artificial viscosity alpha={:g} beta={:g} (l = {:g})",
+                                       opt_.viscosity.alpha, opt_.viscosity.beta, spacing_)
+                         : "no artificial viscosity";
+  return fmt::format(
+      "{} kernel{}, {}, {}, {}, {} thread{}",
+      opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
+      opt_.frame == KernelFrame::eulerian ? fmt::format(" (tables every {} steps)", opt_.update_every)
+                                          : "",
+      opt_.integrator == TimeIntegrator::verlet
+          ? "central differences (velocity Verlet)"
+          : fmt::format("explicit Newmark predictor-corrector gamma={:g}", opt_.newmark_gamma),
+      model_.material->description(dim_), visc, opt_.threads, opt_.threads > 1 ? "s" : "");
+}
+
+}  // namespace mfv

@@ -1,0 +1,170 @@
+/// Explicit dynamics of any registered method: lumped-mass central differences (velocity
+/// Verlet) or the explicit Newmark predictor–corrector of 004 III, with total Lagrangian
+/// (Lagrangian kernel, 001 Table 1) or updated Lagrangian (Eulerian kernel, Table 2) forces
+/// computed from the method's two gradient tables:
+///   F_q = I + Σ_J u_J ⊗ ∇₀N_J(X_q),  f_I = Σ_q w_q P_q · ∇₀N^test_I(X_q)      (Lagrangian)
+///   Ḟ_q = L_q F_q, L_q = Σ_J v_J ⊗ ∇N_J(x_q),  f_I = Σ_q w_q σ_q · ∇N^test_I(x_q)  (Eulerian)
+/// so every plugin gets wave propagation, energy balances and time-step estimates for free.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "methods/materials/material.hpp"
+#include "methods/methods/method.hpp"
+
+namespace mfv {
+
+/// Which configuration the kernel lives in (001 §3.1).
+enum class KernelFrame {
+  lagrangian,  ///< W(X − X_J): neighbours, shape functions and corrections computed once
+  eulerian     ///< W(x − x_J(t)): recomputed at the current positions every `update_every` steps
+};
+
+enum class TimeIntegrator {
+  verlet,  ///< central differences in velocity-Verlet form (half-step velocities)
+  newmark  ///< explicit Newmark predictor–corrector (β = 0, γ ≥ ½), 004 III §4
+};
+
+/// Monaghan-type artificial viscosity, written at the integration points so that it acts in
+/// every method: a pressure q = ρ (β (l ∇·v)² − α c l ∇·v) in compression (∇·v < 0), l the
+/// particle spacing, c the wave speed (Monaghan's Π_IJ with μ_IJ → l ∇·v).
+struct ArtificialViscosity {
+  double alpha = 0, beta = 0;
+  bool enabled() const { return alpha > 0 || beta > 0; }
+};
+
+struct DynamicsOptions {
+  KernelFrame frame = KernelFrame::lagrangian;
+  int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
+  TimeIntegrator integrator = TimeIntegrator::verlet;
+  double newmark_gamma = 0.5;
+  ArtificialViscosity viscosity;
+  int threads = 0;  ///< OpenMP threads for the force loops; 0: the OpenMP default
+};
+
+/// A prescribed velocity of one unknown (particle, component): v(t), or nothing (free) once
+/// `until` has passed.
+struct PrescribedVelocity {
+  int particle = 0, component = 0;
+  double value = 0;
+  double until = 1e300;
+};
+
+/// What a problem supplies besides the discretization.
+struct DynamicsModel {
+  std::shared_ptr<const Material> material;
+  double density = 1;
+  Eigen::VectorXd mass;          ///< lumped mass per particle (see lumped_masses)
+  Eigen::MatrixXd initial_stress;  ///< dim × dim second Piola–Kirchhoff prestress S₀ (or empty)
+  std::vector<PrescribedVelocity> prescribed;
+  /// External forces at time t into f (dim·N, interleaved), which arrives zeroed; optional.
+  std::function<void(double t, Eigen::VectorXd& f)> external_force;
+};
+
+/// How the particle masses are allocated (001 §6).
+enum class MassLumping {
+  volume,  ///< m_I = ρ V_I: boundary particles half, corners a quarter of the interior mass
+  uniform  ///< every particle the same mass ρ V/N
+};
+Eigen::VectorXd lumped_masses(const ParticleSet& particles, double density, MassLumping lumping);
+
+/// Energy balance of a run: E = K + W_int − W_ext − K₀ stays 0 for a conservative scheme.
+struct EnergyBalance {
+  double kinetic = 0, internal_work = 0, external_work = 0, initial = 0;
+  double balance() const { return kinetic + internal_work - external_work - initial; }
+};
+
+/// CPU-free counters of what the engine did (timings are the caller's).
+struct DynamicsCounters {
+  long steps = 0, force_evaluations = 0, retabulations = 0;
+};
+
+class ExplicitDynamics {
+ public:
+  /// Takes the discretization (built with a Lagrangian kernel at t = 0); `method` is kept for
+  /// Eulerian recomputation and must outlive this object.
+  ExplicitDynamics(const Method& method, Discretization d, DynamicsModel model,
+                   DynamicsOptions options);
+
+  /// Sets the velocity field from its values at the particles (dim × N): the unknowns are the
+  /// particle values themselves (SPH, RLM) or the nodal parameters whose field takes these
+  /// values at the particles (MLS), found by a sparse solve.
+  void set_particle_velocity(const Eigen::MatrixXd& v);
+
+  /// ω_max² of M⁻¹K about the current state, K from central differences of the internal force
+  /// (power iteration; free unknowns only). The critical step of central differences is
+  /// 2/ω_max.
+  double max_eigenvalue(int iterations = 60) const;
+  double critical_time_step(int iterations = 60) const;
+
+  /// Advances one step of size dt.
+  void step(double dt);
+
+  double time() const { return t_; }
+  const DynamicsCounters& counters() const { return counters_; }
+  const EnergyBalance& energy() const { return energy_; }
+  const Discretization& discretization() const { return d_; }
+  int dim() const { return dim_; }
+  int particles() const { return n_; }
+  /// Unknowns (dim·N, interleaved): nodal displacements and velocities.
+  const Eigen::VectorXd& displacement() const { return u_; }
+  const Eigen::VectorXd& velocity() const { return v_; }
+  /// The fields at the particles (dim × N): v(X_I) = Σ_J N_J(X_I) v_J, likewise u.
+  Eigen::MatrixXd particle_velocity() const;
+  Eigen::MatrixXd particle_displacement() const;
+  /// Current positions of the particles (X_I + u(X_I)), dim × N.
+  Eigen::MatrixXd particle_positions() const;
+  /// Cauchy stress at the integration points (dim·dim × nq, column-major per point) and at
+  /// the particles (nodal and stress-point rules: their own points; cell rules: the nearest
+  /// Gauss point's value, for pictures only).
+  Eigen::MatrixXd point_cauchy_stress() const;
+  Eigen::MatrixXd particle_cauchy_stress() const;
+  double kinetic_energy() const;
+  std::string description() const;
+
+ private:
+  void build_force_tables();
+  /// f_int at displacement u (Lagrangian) or after the increment du from the committed
+  /// state (Eulerian); dt > 0 turns on the viscosity (velocity du/dt). `commit` stores F and
+  /// the material history; otherwise they are left as they were (trial evaluations).
+  void internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt,
+                      bool commit, Eigen::VectorXd& f) const;
+  void retabulate();
+  void external_force(double t, Eigen::VectorXd& f) const;
+  void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
+
+  const Method& method_;
+  Discretization d_;
+  DynamicsModel model_;
+  DynamicsOptions opt_;
+  int dim_ = 1, n_ = 0, nq_ = 0;
+  double t_ = 0, spacing_ = 0, wave_speed_ = 0;
+  DynamicsCounters counters_;
+  EnergyBalance energy_;
+
+  Eigen::VectorXd u_, v_, a_, f_int_, f_ext_, inv_mass_;
+  Eigen::VectorXd du_, f_new_, fe_new_, v_pred_;  ///< step scratch: no allocation per step
+  std::vector<char> prescribed_mask_;
+  // Reference (t = 0) configuration, kept for the Eulerian update.
+  Eigen::MatrixXd X_, Xq_;
+  Eigen::VectorXd V0_, w0_;
+  ShapeTable values_at_particles_;  ///< N_J(X_I), for fields at the particles
+  // Transposed test table with the reference weights folded in: for particle I the entries
+  // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
+  std::vector<int> tt_offsets_, tt_point_;
+  std::vector<double> tt_grad_;
+  // Per integration point: F (Eulerian: integrated in time), the stress the force sums
+  // (P, or the Kirchhoff stress τ = J σ in the Eulerian frame), material history.
+  mutable std::vector<double> F_, stress_, state_, scratch_F_;
+  std::vector<double> committed_F_;
+};
+
+/// Parses "lagrangian"/"eulerian" and "verlet"/"newmark", throwing InputError with the valid
+/// names otherwise.
+KernelFrame kernel_frame_from(const std::string& name);
+TimeIntegrator time_integrator_from(const std::string& name);
+
+}  // namespace mfv

@@ -1,0 +1,39 @@
+/// Constitutive models of explicit dynamics: the first Piola–Kirchhoff stress P(F) of a batch
+/// of points (001 eqs 1–7: P is what Table 1's internal forces sum), with per-point history
+/// variables so that hyperelastic, J2-plastic and equation-of-state models share one interface.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "methods/core/registry.hpp"
+
+namespace mfv {
+
+class Material {
+ public:
+  virtual ~Material() = default;
+  /// History variables per point (plastic strain, back stress, ...); 0 for elastic models.
+  virtual int state_size(int dim) const { return 0; }
+  /// P of n points. F and P hold dim×dim column-major matrices one after another; state holds
+  /// state_size(dim) values per point, updated in place (call once per time step). Called
+  /// once per batch of points, never per point, so the virtual call costs nothing.
+  virtual void first_piola(int dim, int n, const double* F, double* P, double* state) const = 0;
+  /// Dilatational wave speed √(M/ρ) in the model's small-strain limit: the elastic bound used
+  /// by time-step estimates and instability detectors.
+  virtual double wave_speed(int dim, double density) const = 0;
+  /// Parameters as resolved, for reports ("St Venant-Kirchhoff E=210 nu=0 plane strain").
+  virtual std::string description(int dim) const = 0;
+};
+
+using MaterialRegistry = Registry<Material>;
+
+void register_svk(MaterialRegistry&);
+void register_plastic_1d(MaterialRegistry&);
+
+/// Registers every material: add one line here for a new one.
+inline void register_all_materials(MaterialRegistry& r) {
+  register_svk(r);
+  register_plastic_1d(r);
+}
+
+}  // namespace mfv

@@ -1,0 +1,137 @@
+#include "problems/transient.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "reports/progress.hpp"
+#include "verify/runner.hpp"
+
+namespace mfv {
+
+ParamSchema dynamics_schema(const std::string& default_integrator, double default_safety) {
+  ParamSchema s{
+      ParamSpec::choice("frame", "lagrangian", {"lagrangian", "eulerian"},
+                        "kernel W(X - X_J) fixed at t = 0 (001 Table 1) or W(x - x_J(t)) "
+                        "recomputed (Table 2)"),
+      ParamSpec::count("update_every", 1, 1, "Eulerian kernel: steps between recomputations"),
+      ParamSpec::choice("integrator", default_integrator, {"verlet", "newmark"},
+                        "central differences (velocity Verlet) or the explicit Newmark "
+                        "predictor-corrector of 004 III"),
+      ParamSpec::number("gamma", 0.5, "Newmark gamma (>= 0.5; 0.5 is central differences)"),
+      ParamSpec::positive("safety", default_safety,
+                          "time step over the critical step 2/omega_max (when dt = 0)"),
+      ParamSpec::number("dt", 0.0, "time step; 0: safety times the critical step"),
+      ParamSpec::number("av_alpha", 0.0, "artificial viscosity, linear (Monaghan alpha)"),
+      ParamSpec::number("av_beta", 0.0, "artificial viscosity, quadratic (Monaghan beta)"),
+      ParamSpec::count("threads", 0, 0, "OpenMP threads for the force loops (0: all cores)"),
+      ParamSpec::count("frames", 12, 0, "VTK snapshots per run (0: none)"),
+      ParamSpec::count("samples", 200, 2, "rows of the time histories per run"),
+  };
+  return s;
+}
+
+DynamicsOptions dynamics_options(const Params& p) {
+  DynamicsOptions o;
+  o.frame = kernel_frame_from(p.text("frame"));
+  o.update_every = p.integer("update_every");
+  o.integrator = time_integrator_from(p.text("integrator"));
+  o.newmark_gamma = p.number("gamma");
+  o.viscosity.alpha = p.number("av_alpha");
+  o.viscosity.beta = p.number("av_beta");
+  if (o.viscosity.alpha < 0 || o.viscosity.beta < 0)
+    throw InputError(fmt::format("artificial viscosity alpha = {}, beta = {}: both must be >= 0",
+                                 o.viscosity.alpha, o.viscosity.beta));
+  o.threads = p.integer("threads");
+  return o;
+}
+
+std::string dynamics_summary(const Params& p) {
+  return fmt::format("{}{}, {}", p.text("frame"),
+                     p.text("frame") == "eulerian"
+                         ? fmt::format(" (every {} steps)", p.integer("update_every"))
+                         : "",
+                     p.text("integrator"));
+}
+
+StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
+  StepChoice c;
+  c.critical = sim.critical_time_step();
+  c.target = p.number("dt") > 0 ? p.number("dt") : p.number("safety") * c.critical;
+  if (p.number("dt") < 0)
+    throw InputError(fmt::format("dt = {} must be >= 0 (0: from the critical step)",
+                                 p.number("dt")));
+  return c;
+}
+
+void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
+                   const TransientPlan& plan, const Params& dynamics, const std::string& label,
+                   CaseResult& r) {
+  if (!(plan.end_time > 0)) throw InputError("a transient run needs a positive end time");
+  const double unit = plan.checkpoints.empty() ? plan.end_time : plan.checkpoints.front();
+  const long per_unit = std::max(1L, static_cast<long>(std::ceil(unit / dt_target - 1e-9)));
+  const double dt = unit / per_unit;
+  const long steps = std::max(1L, std::lround(plan.end_time / dt));
+  std::vector<long> check_steps;
+  for (double t : plan.checkpoints) check_steps.push_back(std::lround(t / dt));
+
+  TransientData& td = r.transient;
+  td.dt = dt;
+  td.dt_critical = dt_critical;
+  td.end_time = steps * dt;
+  td.dynamics = sim.description();
+  td.history_columns = {"time", "kinetic", "internal work", "external work", "energy balance"};
+  for (const auto& n : plan.probe_names) td.history_columns.push_back(n);
+  const int samples = dynamics.integer("samples");
+  const int frames = dynamics.integer("frames");
+  const long sample_every = std::max(1L, steps / samples);
+  const long frame_every = frames > 0 ? std::max(1L, steps / frames) : 0;
+
+  double worst = 0, scale = std::abs(sim.energy().initial);
+  auto record = [&]() {
+    const EnergyBalance& e = sim.energy();
+    std::vector<double> row{sim.time(), e.kinetic, e.internal_work, e.external_work,
+                            e.balance()};
+    if (plan.probes)
+      for (double v : plan.probes(sim)) row.push_back(v);
+    td.history.push_back(std::move(row));
+  };
+  auto snapshot = [&]() {
+    TransientData::Frame f;
+    f.time = sim.time();
+    f.x = sim.particle_positions();
+    f.data.emplace_back("velocity", sim.particle_velocity());
+    f.data.emplace_back("displacement", sim.particle_displacement());
+    f.data.emplace_back("stress", sim.particle_cauchy_stress());
+    if (plan.frame_data) plan.frame_data(sim, f);
+    td.frames.push_back(std::move(f));
+  };
+  record();
+  if (frame_every) snapshot();
+
+  ProgressBar bar(label, steps);
+  const double t0 = cpu_seconds();
+  long done = 0;
+  for (long s = 1; s <= steps; ++s) {
+    sim.step(dt);
+    done = s;
+    const EnergyBalance& e = sim.energy();
+    scale = std::max({scale, e.kinetic, std::abs(e.external_work)});
+    worst = std::max(worst, std::abs(e.balance()));
+    for (std::size_t c = 0; c < check_steps.size(); ++c)
+      if (check_steps[c] == s && plan.at_checkpoint) plan.at_checkpoint(sim, static_cast<int>(c));
+    if (s % sample_every == 0 || s == steps) record();
+    if (frame_every && (s % frame_every == 0 || s == steps)) snapshot();
+    bar.update(s, sim.time());
+    if (!std::isfinite(e.kinetic)) break;
+    if (plan.stop && plan.stop(sim)) break;
+  }
+  bar.finish();
+  r.cpu.solve = cpu_seconds() - t0;
+  td.steps = done;
+  td.retabulations = sim.counters().retabulations;
+  r.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
+}
+
+}  // namespace mfv
