@@ -17,6 +17,8 @@ namespace mfv {
 namespace {
 
 constexpr int kChunk = 256;  // integration points per material call
+// Below this many points or particles a parallel region costs more than it saves.
+constexpr int kParallelMinimum = 4096;
 
 /// Kinematics and stresses of one chunk of points [q0, q1): the deformation gradient (from u
 /// in the Lagrangian frame, from the increment du and the stored F in the Eulerian one), the
@@ -133,7 +135,7 @@ void compute_points(const PointKernel<D>& k, const Material& material, int nq, c
                     const double* du, const double* Fc, double* F, double* stress, double* state,
                     int state_size, bool viscosity, int threads) {
   const int chunks = (nq + kChunk - 1) / kChunk;
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads) if (nq > kParallelMinimum)
   for (int c = 0; c < chunks; ++c) {
     const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
     double Lbuf[kChunk * D * D];
@@ -149,7 +151,7 @@ void compute_points(const PointKernel<D>& k, const Material& material, int nq, c
 template <int D>
 void gather_forces(int n, const int* offsets, const int* point, const double* grad,
                    const double* stress, double* f, int threads) {
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > kParallelMinimum)
   for (int I = 0; I < n; ++I) {
     double fi[D] = {};
     for (int e = offsets[I]; e < offsets[I + 1]; ++e) {

@@ -103,7 +103,16 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     f.x = sim.particle_positions();
     f.data.emplace_back("velocity", sim.particle_velocity());
     f.data.emplace_back("displacement", sim.particle_displacement());
-    f.data.emplace_back("stress", sim.particle_cauchy_stress());
+    const Eigen::MatrixXd sigma = sim.particle_cauchy_stress();
+    if (sim.dim() == 1) {
+      f.data.emplace_back("stress", sigma);
+    } else {  // Voigt xx, yy, xy from the column-major 2×2 blocks
+      Eigen::MatrixXd voigt(3, sigma.cols());
+      voigt.row(0) = sigma.row(0);
+      voigt.row(1) = sigma.row(3);
+      voigt.row(2) = sigma.row(2);
+      f.data.emplace_back("stress", std::move(voigt));
+    }
     if (plan.frame_data) plan.frame_data(sim, f);
     td.frames.push_back(std::move(f));
   };

@@ -39,6 +39,20 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
   return out;
 }
 
+std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies) {
+  const auto findings = problem.findings();
+  if (findings.empty()) return "";
+  std::string md = "### The paper's findings and ours\n\n";
+  const auto summaries = summarize(studies);
+  MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
+                  {'l', 'l', 'l', 'l', 'l'});
+  for (const auto& f : findings) {
+    const Verdict v = f.check(summaries);
+    t.add_row({f.source, f.claim, f.criterion, "**" + v.status + "**", v.ours});
+  }
+  return md + t.str() + "\n";
+}
+
 std::string write_elasticity_section(const Catalogue& catalogue, const ReportSection& section,
                                      const std::string& title, const fs::path& dir, bool vtk) {
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
@@ -56,18 +70,7 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
   md += "\n";
 
   // 1. Findings of the paper beside ours.
-  const auto findings = problem->findings();
-  if (!findings.empty()) {
-    md += "### The paper's findings and ours\n\n";
-    const auto summaries = summarize(section.studies);
-    MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
-                    {'l', 'l', 'l', 'l', 'l'});
-    for (const auto& f : findings) {
-      const Verdict v = f.check(summaries);
-      t.add_row({f.source, f.claim, f.criterion, "**" + v.status + "**", v.ours});
-    }
-    md += t.str() + "\n";
-  }
+  md += findings_block(*problem, section.studies);
 
   // 2. Errors, sizes, solver and times.
   md += "### Errors, sizes and CPU times\n\n\"L2\" is the relative displacement error (001 eq "

@@ -117,11 +117,54 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
   return md + "\n";
 }
 
+std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies) {
+  std::string md;
+  const auto comparisons = compare_published(problem, studies);
+  if (!comparisons.empty()) {
+    md += "### Published values beside ours\n\n";
+    MarkdownTable t({"source", "quantity", "method", "nodes", "paper", "ours", "ours − paper",
+                     "our study"},
+                    {'l', 'l', 'l', 'r', 'r', 'r', 'r', 'l'});
+    std::set<std::string> notes;
+    int not_run = 0;
+    std::vector<std::string> not_run_examples;
+    for (const auto& c : comparisons) {
+      const PublishedValue& p = c.published;
+      const std::string params = p.method_params.to_string();
+      const std::string method = params.empty() ? p.method : p.method + " " + params;
+      if (c.study.empty()) {
+        ++not_run;
+        if (not_run_examples.size() < 4)
+          not_run_examples.push_back(fmt::format("{} at {} nodes", method, p.nodes));
+        continue;
+      }
+      if (!p.note.empty()) notes.insert(fmt::format("{}: {}", p.source, p.note));
+      const bool small = std::abs(p.value) < 1;
+      t.add_row({p.source, p.quantity, method, std::to_string(p.nodes),
+                 small ? fmt_sci(p.value, 4) : fmt::format("{:.4f}", p.value),
+                 small ? fmt_sci(c.ours, 4) : fmt::format("{:.4f}", c.ours),
+                 std::isnan(c.ours) ? "–" : fmt::format("{:+.4g}", c.ours - p.value), c.study});
+    }
+    if (t.rows() > 0) md += t.str() + "\n";
+    for (const auto& n : notes) md += fmt::format("_{}._\n", n);
+    if (not_run > 0)
+      md += fmt::format("\n{} published value(s) have no matching study in this run (e.g. {}); "
+                        "run them with `mfv compare` or the `--full` suite.\n",
+                        not_run, fmt::join(not_run_examples, "; "));
+    md += "\n";
+    const auto explain = problem.published_notes();
+    if (!explain.empty()) md += join_lines(explain) + "\n";
+  }
+  return md;
+}
+
 std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk) {
   namespace fs = std::filesystem;
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
   const std::string title = section_title(section);
+  if (problem->transient())
+    return write_transient_section(catalogue, section, title, dir, vtk);
   if (!section.studies.empty() && !section.studies.front().cases.empty() &&
       section.studies.front().cases.front().components > 1)
     return write_elasticity_section(catalogue, section, title, dir, vtk);
@@ -208,42 +251,7 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   }
 
   // 5. Published values beside ours.
-  const auto comparisons = compare_published(*problem, section.studies);
-  if (!comparisons.empty()) {
-    md += "### Published values beside ours\n\n";
-    MarkdownTable t({"source", "quantity", "method", "nodes", "paper", "ours", "ours − paper",
-                     "our study"},
-                    {'l', 'l', 'l', 'r', 'r', 'r', 'r', 'l'});
-    std::set<std::string> notes;
-    int not_run = 0;
-    std::vector<std::string> not_run_examples;
-    for (const auto& c : comparisons) {
-      const PublishedValue& p = c.published;
-      const std::string params = p.method_params.to_string();
-      const std::string method = params.empty() ? p.method : p.method + " " + params;
-      if (c.study.empty()) {
-        ++not_run;
-        if (not_run_examples.size() < 4)
-          not_run_examples.push_back(fmt::format("{} at {} nodes", method, p.nodes));
-        continue;
-      }
-      if (!p.note.empty()) notes.insert(fmt::format("{}: {}", p.source, p.note));
-      const bool small = std::abs(p.value) < 1;
-      t.add_row({p.source, p.quantity, method, std::to_string(p.nodes),
-                 small ? fmt_sci(p.value, 4) : fmt::format("{:.4f}", p.value),
-                 small ? fmt_sci(c.ours, 4) : fmt::format("{:.4f}", c.ours),
-                 std::isnan(c.ours) ? "–" : fmt::format("{:+.4g}", c.ours - p.value), c.study});
-    }
-    if (t.rows() > 0) md += t.str() + "\n";
-    for (const auto& n : notes) md += fmt::format("_{}._\n", n);
-    if (not_run > 0)
-      md += fmt::format("\n{} published value(s) have no matching study in this run (e.g. {}); "
-                        "run them with `mfv compare` or the `--full` suite.\n",
-                        not_run, fmt::join(not_run_examples, "; "));
-    md += "\n";
-    const auto explain = problem->published_notes();
-    if (!explain.empty()) md += join_lines(explain) + "\n";
-  }
+  md += published_block(*problem, section.studies);
 
   // 6. VTK files: one ParaView collection per study, stepping through the resolutions.
   if (vtk) {

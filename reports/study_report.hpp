@@ -38,6 +38,17 @@ struct PublishedComparison {
 /// (relative H1 seminorm).
 std::vector<PublishedComparison> compare_published(const Problem& problem,
                                                    const std::vector<StudyResult>& studies);
+/// "### Published values beside ours": the comparisons as a table with the notes, values
+/// no study matched, and the problem's published_notes; empty without published values.
+std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies);
+/// "### The paper's findings and ours": each finding with its verdict on our studies.
+std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies);
+/// The section of a transient problem (explicit dynamics): methods and engine settings,
+/// findings, errors and CPU per case, rates, convergence and time-history plots, history
+/// CSV files, published values, and ParaView time series per case.
+std::string write_transient_section(const Catalogue& catalogue, const ReportSection& section,
+                                    const std::string& title, const std::filesystem::path& dir,
+                                    bool vtk);
 
 /// One VTK file per resolution: its name suffix ("-line.vtp") and its writer.
 using VtkPart = std::pair<std::string, std::function<void(const std::filesystem::path&,
