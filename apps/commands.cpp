@@ -126,6 +126,25 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
   out << fmt::format("nodes     {}  (dx = {:.6g}, {} quadrature points)\n", r.particles, r.h,
                      r.quadrature_points);
+  if (r.transient.steps > 0) {
+    const TransientData& t = r.transient;
+    out << fmt::format("dynamics  {}\n", t.dynamics);
+    out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
+                       "{:.6g}{}\n",
+                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.end_time,
+                       t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
+                                           : "");
+    out << fmt::format("L2 error  relative {:.6e} (the problem's main error)\n", r.errors.l2_rel);
+    for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {:.6g}\n", k, v);
+    out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
+                       "({:.3g} particle-steps/s)\n",
+                       r.cpu.setup, r.cpu.assembly, r.cpu.solve,
+                       r.particles * double(t.steps) / std::max(r.cpu.solve, 1e-9));
+    if (!o.vtk.empty())
+      out << "vtk       transient runs write time series through reports: use `mfv study ... "
+             "-r <dir>`\n";
+    return;
+  }
   out << fmt::format("L2 error  {:.6e}  (relative {:.6e})\n", r.errors.l2, r.errors.l2_rel);
   out << fmt::format("H1 semi   {:.6e}  (relative {:.6e})\n", r.errors.h1_semi, r.errors.h1_semi_rel);
   out << fmt::format("H1 full   {:.6e}  (relative {:.6e})\n", r.errors.h1, r.errors.h1_rel);
