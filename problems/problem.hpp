@@ -146,6 +146,8 @@ void register_advection_diffusion(ProblemRegistry&);
 void register_cantilever(ProblemRegistry&);
 void register_elastic_patch(ProblemRegistry&);
 void register_rod_pulse(ProblemRegistry&);
+void register_prestressed_rod(ProblemRegistry&);
+void register_grk_bar(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -154,6 +156,8 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_cantilever(r);
   register_elastic_patch(r);
   register_rod_pulse(r);
+  register_prestressed_rod(r);
+  register_grk_bar(r);
 }
 
 /// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,
