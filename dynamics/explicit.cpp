@@ -240,7 +240,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   external_force(0, f_ext_);
   a_ = ((f_ext_ - f_int_).array() * inv_mass_.array()).matrix();
   apply_prescribed(0, v_, a_);
-  energy_.initial = kinetic_energy();
+  energy_.initial = energy_.kinetic = kinetic_energy();
 }
 
 void ExplicitDynamics::build_force_tables() {
@@ -343,7 +343,8 @@ void ExplicitDynamics::set_particle_velocity(const Eigen::MatrixXd& v) {
     }
   }
   apply_prescribed(t_, v_, a_);
-  energy_.initial = kinetic_energy() - energy_.internal_work + energy_.external_work;
+  energy_.kinetic = kinetic_energy();
+  energy_.initial = energy_.kinetic - energy_.internal_work + energy_.external_work;
 }
 
 double ExplicitDynamics::max_eigenvalue(int iterations) const {

@@ -59,16 +59,20 @@ std::string slug(const std::string& text) {
 void add_to_sections(std::vector<ReportSection>& sections, StudyResult study) {
   if (study.cases.empty()) return;
   const CaseSpec& spec = study.cases.front().spec;
+  // Transient studies of one problem share a section whatever their loading, frame or
+  // prestress: their findings compare across those parameters (Lagrangian vs Eulerian,
+  // σ̄ sweeps), and each study's parameters are in its label and engine description.
+  const bool transient = study.cases.front().transient.steps > 0;
+  const Params key = transient ? Params{} : spec.problem_params;
   for (auto& s : sections) {
-    if (s.problem == spec.problem &&
-        s.problem_params.to_string() == spec.problem_params.to_string()) {
+    if (s.problem == spec.problem && s.problem_params.to_string() == key.to_string()) {
       s.studies.push_back(std::move(study));
       return;
     }
   }
   ReportSection s;
   s.problem = spec.problem;
-  s.problem_params = spec.problem_params;
+  s.problem_params = key;
   s.studies.push_back(std::move(study));
   sections.push_back(std::move(s));
 }
