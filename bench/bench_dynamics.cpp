@@ -1,0 +1,253 @@
+/// Throughput of explicit dynamics (dynamics/explicit.hpp) on the 2D plane-strain rod of 001
+/// §9.2: 60 × 5 mm, St Venant–Kirchhoff E = 210 GPa, ν = 0, ρ = 7.8e-6 (mm, ms, kg, GPa: the
+/// bar wave speed is c ≈ 5189 mm/ms), the Gaussian initial velocity v_x = exp(−0.025(x−30)²),
+/// Lagrangian kernel (tables built once), central differences at dt = 0.8 dt_crit.
+///   BM_Dynamics/<m>/N:<particles>/omp:<threads>
+///       ExplicitDynamics::step only, kSteps steps per iteration; discretization, engine
+///       construction, velocity fit and time-step estimate happen before the timed loop.
+///   BM_DynamicsOrder/sph/N:<particles>/omp:<threads>/order:1
+///       the largest SPH case with the particles randomly permuted before discretize (order:0
+///       would be the lattice order of BM_Dynamics/sph), to show what memory order costs.
+/// Counters: items_per_second (particle-steps per second), particles, qpoints (integration
+/// points), setup_s (wall seconds of discretize for this case), rss_GB (resident set after the
+/// run). Speed is measured here only: tests assert no timings.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "dynamics/explicit.hpp"
+#include "methods/particles.hpp"
+#include "verify/catalogue.hpp"
+
+namespace {
+
+using namespace mfv;
+
+const Catalogue& catalogue() {
+  static const Catalogue c;
+  return c;
+}
+
+// 001 §9.2 in mm / ms / kg / GPa.
+constexpr double kLength = 60, kDepth = 5, kYoung = 210, kPoisson = 0, kDensity = 7.8e-6;
+constexpr int kSteps = 10;  // steps per benchmark iteration
+
+const char* const kMethods[] = {"sph", "rlm", "kbm-ni", "kbm-si", "efg-ni", "efg-ci"};
+const int kThreads[] = {1, 2};
+
+/// Lattices nx × ny with ny = (nx−1)/12 + 1 (the 60 × 5 aspect ratio, square spacing
+/// 60/(nx−1)); the benchmark argument is the particle count nx·ny.
+const int kColumns[] = {361, 481, 1201, 3457};  // 11,191 · 19,721 · 121,301 · 999,073
+constexpr int rows_of(int nx) { return (nx - 1) / 12 + 1; }
+constexpr int lattice_particles(int nx) { return nx * rows_of(nx); }
+int columns_of(int particles) {
+  for (int nx : kColumns)
+    if (lattice_particles(nx) == particles) return nx;
+  throw std::logic_error("bench_dynamics: no lattice with " + std::to_string(particles) +
+                         " particles");
+}
+
+/// Methods whose set-up at 10^6 particles stays under ~60 s and ~6 GB on the 2-core, 24 GB
+/// machine: sph and rlm (particle values, no velocity fit). kbm-ni, efg-ni and kbm-si spend
+/// 66-123 s per engine in set_particle_velocity's ILUT fit, kbm-si peaks at 7.9 GB and efg-ci
+/// would need about 20 GB (see bench/README.md); they stop at 121,301 particles unless
+/// MFV_BENCH_DYNAMICS_ALL is set in the environment.
+bool runs_at(const std::string& method, int nx) {
+  if (nx < 3000) return true;
+  if (std::getenv("MFV_BENCH_DYNAMICS_ALL")) return true;
+  return method == "sph" || method == "rlm";
+}
+
+Domain rod() { return Domain::rectangle(0, 0, kLength, kDepth); }
+
+/// Random permutation of the particles (every per-particle field moved consistently); the
+/// set is then no longer a lattice.
+ParticleSet shuffled(const ParticleSet& p, std::uint64_t seed) {
+  const int n = p.size();
+  std::vector<int> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::mt19937_64 rng(seed);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  ParticleSet s = p;
+  for (int k = 0; k < n; ++k) {
+    s.x.col(k) = p.x.col(perm[k]);
+    s.volume[k] = p.volume[perm[k]];
+    if (p.dilation.size() == n) s.dilation[k] = p.dilation[perm[k]];
+    if (static_cast<int>(p.sides.size()) == n) s.sides[k] = p.sides[perm[k]];
+  }
+  s.lattice.setZero();
+  return s;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double resident_gb() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / (1024.0 * 1024.0);
+  return 0;
+}
+
+DynamicsModel rod_model(const ParticleSet& particles) {
+  Params mp;
+  mp.set("E", kYoung);
+  mp.set("nu", kPoisson);
+  DynamicsModel model;
+  model.material = catalogue().materials.create("svk", mp);
+  model.density = kDensity;
+  model.mass = lumped_masses(particles, model.density, MassLumping::volume);
+  return model;
+}
+
+void set_rod_velocity(ExplicitDynamics& sim, const ParticleSet& particles) {
+  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(2, particles.size());
+  for (int I = 0; I < particles.size(); ++I)
+    v(0, I) = std::exp(-0.025 * std::pow(particles.x(0, I) - 0.5 * kLength, 2));
+  sim.set_particle_velocity(v);
+}
+
+/// dt_crit / (Δx / c) of a method on the rod, from the power iteration on a 241 × 21 lattice
+/// (cached per method). On a uniform lattice the largest frequency is set by the interior
+/// stencil, so the ratio does not depend on the size, and the large cases need not run 120
+/// force evaluations for their estimate.
+double critical_ratio(const std::string& method) {
+  static std::map<std::string, double> ratios;
+  if (auto it = ratios.find(method); it != ratios.end()) return it->second;
+  const auto m = catalogue().methods.create(method);
+  const ParticleSet p = rectangle_lattice(rod(), 241, rows_of(241), Placement::boundary);
+  ExplicitDynamics sim(*m, m->discretize(rod(), p, 1), rod_model(p), DynamicsOptions{});
+  set_rod_velocity(sim, p);
+  const double c = std::sqrt(kYoung / kDensity);
+  return ratios[method] = sim.critical_time_step() / (p.spacing / c);
+}
+
+/// One case (method, size, order) with its discretization and the engine of the thread count
+/// being measured. The library calls a benchmark function several times while it settles the
+/// iteration count, so the engine is kept between those calls (its time simply runs on), and
+/// the thread counts of a case, registered one after the other, share the discretization.
+/// One case is held at a time: at 10^6 particles a discretization takes GBs.
+struct Case {
+  std::string key;
+  std::unique_ptr<Method> method;  // must outlive the engine built on it
+  ParticleSet particles;
+  std::optional<Discretization> d;  // handed to the engine of the last thread count
+  double setup_seconds = 0, engine_seconds = 0, dt = 0;
+  int threads = 0;
+  std::unique_ptr<ExplicitDynamics> sim;
+};
+
+ExplicitDynamics& engine(Case& c, const std::string& method, int particles, bool random_order,
+                         int threads) {
+  const std::string key = method + "/" + std::to_string(particles) + (random_order ? "/r" : "");
+  if (c.key == key && c.sim && c.threads == threads) return *c.sim;
+  c.sim.reset();  // frees the previous engine, and below the previous case, first
+  if (c.key != key || !c.d) {
+    c = Case{};
+    c.key = key;
+    c.method = catalogue().methods.create(method);
+    const int nx = columns_of(particles);
+    c.particles = rectangle_lattice(rod(), nx, rows_of(nx), Placement::boundary);
+    if (random_order) c.particles = shuffled(c.particles, 12345);
+    const auto t0 = std::chrono::steady_clock::now();
+    c.d = c.method->discretize(rod(), c.particles, 1);
+    c.setup_seconds = seconds_since(t0);
+  }
+  DynamicsOptions opt;
+  opt.frame = KernelFrame::lagrangian;
+  opt.threads = threads;
+  const auto t0 = std::chrono::steady_clock::now();
+  // The last thread count takes the tables; the earlier ones copy them.
+  const bool last = threads == kThreads[std::size(kThreads) - 1];
+  c.sim = std::make_unique<ExplicitDynamics>(*c.method, last ? std::move(*c.d) : *c.d,
+                                             rod_model(c.particles), opt);
+  if (last) c.d.reset();
+  c.threads = threads;
+  set_rod_velocity(*c.sim, c.particles);
+  c.engine_seconds = seconds_since(t0);
+  c.dt = 0.8 * critical_ratio(method) * c.particles.spacing / std::sqrt(kYoung / kDensity);
+  return *c.sim;
+}
+
+void run(benchmark::State& state, const std::string& method, bool random_order) {
+  static Case c;
+  const int n = static_cast<int>(state.range(0));
+  ExplicitDynamics* sim = nullptr;
+  try {
+    sim = &engine(c, method, n, random_order, static_cast<int>(state.range(1)));
+  } catch (const std::exception& e) {
+    c = Case{};
+    state.SkipWithError(e.what());
+    return;
+  }
+  for (auto _ : state) {
+    for (int s = 0; s < kSteps; ++s) sim->step(c.dt);
+    benchmark::DoNotOptimize(sim->velocity().data());
+    benchmark::ClobberMemory();
+  }
+  if (!std::isfinite(sim->kinetic_energy())) {
+    state.SkipWithError("the run blew up (non-finite kinetic energy)");
+    return;
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kSteps * n);
+  state.counters["particles"] = n;
+  state.counters["qpoints"] = sim->discretization().quadrature.size();
+  state.counters["setup_s"] = c.setup_seconds;
+  state.counters["engine_s"] = c.engine_seconds;
+  state.counters["rss_GB"] = resident_gb();
+}
+
+void BM_Dynamics(benchmark::State& state, const char* method) { run(state, method, false); }
+
+void BM_DynamicsOrder(benchmark::State& state) { run(state, "sph", state.range(2) != 0); }
+
+void configure(benchmark::internal::Benchmark* b, int particles) {
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+  // One iteration is kSteps steps. Up to 10^5 particles, repeat for 0.5 s; at 10^6 three
+  // iterations (0.1-0.3 s per step), so the whole set finishes in about 5 minutes on 2 cores.
+  if (particles > 500000)
+    b->Iterations(3);
+  else
+    b->MinTime(0.5);
+}
+
+bool register_dynamics_benchmarks() {
+  for (const char* method : kMethods)
+    for (int nx : kColumns) {
+      if (!runs_at(method, nx)) continue;
+      const int n = lattice_particles(nx);
+      auto* b = benchmark::RegisterBenchmark((std::string("BM_Dynamics/") + method).c_str(),
+                                             BM_Dynamics, method);
+      b->ArgNames({"N", "omp"});
+      for (int t : kThreads) b->Args({n, t});
+      configure(b, n);
+    }
+  // Particle order: a random permutation at the largest size. The lattice-order reference is
+  // BM_Dynamics/sph/N:999073 (--benchmark_filter=sph/N:999073 runs both); order:0 repeats it.
+  const int n = lattice_particles(kColumns[std::size(kColumns) - 1]);
+  auto* b = benchmark::RegisterBenchmark("BM_DynamicsOrder/sph", BM_DynamicsOrder);
+  b->ArgNames({"N", "omp", "order"});
+  for (int t : kThreads) b->Args({n, t, 1});
+  configure(b, n);
+  return true;
+}
+
+// Registered during static initialization, like bench_cantilever.cpp.
+[[maybe_unused]] const bool kRegistered = register_dynamics_benchmarks();
+
+}  // namespace
