@@ -213,7 +213,6 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   inv_mass_.resize(m);
   for (int I = 0; I < n_; ++I)
     for (int c = 0; c < dim_; ++c) inv_mass_[dim_ * I + c] = 1 / model_.mass[I];
-  prescribed_mask_.assign(m, 0);
   for (const PrescribedVelocity& p : model_.prescribed) {
     if (p.particle < 0 || p.particle >= n_ || p.component < 0 || p.component >= dim_)
       throw InputError(fmt::format("prescribed velocity of particle {} component {} is outside "
@@ -263,10 +262,8 @@ void ExplicitDynamics::build_force_tables() {
 
 void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,
                                       double dt, bool commit, Eigen::VectorXd& f) const {
-  const ShapeTable& t = d_.trial_q;
   const bool eulerian = opt_.frame == KernelFrame::eulerian;
   const bool viscosity = opt_.viscosity.enabled() && dt > 0;
-  const double* S0 = model_.initial_stress.size() ? model_.initial_stress.data() : nullptr;
   double* F = commit ? F_.data() : scratch_F_.data();
   // A trial evaluation must not move the material's history: it works on a copy.
   std::vector<double> trial_state;
@@ -279,25 +276,27 @@ void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::Vec
       state = trial_state.data();
     }
   }
-  const int ns = model_.material->state_size(dim_);
   f.resize(dim_ * n_);
-  if (dim_ == 1) {
-    PointKernel<1> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
-                     opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
-                     model_.density, dt};
-    compute_points<1>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
-                      stress_.data(), state, ns, viscosity, opt_.threads);
-    gather_forces<1>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
-                     f.data(), opt_.threads);
-  } else {
-    PointKernel<2> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
-                     opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
-                     model_.density, dt};
-    compute_points<2>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
-                      stress_.data(), state, ns, viscosity, opt_.threads);
-    gather_forces<2>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
-                     f.data(), opt_.threads);
-  }
+  if (dim_ == 1)
+    forces<1>(u, du, dt, eulerian, viscosity, F, state, f);
+  else
+    forces<2>(u, du, dt, eulerian, viscosity, F, state, f);
+}
+
+template <int D>
+void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt,
+                              bool eulerian, bool viscosity, double* F, double* state,
+                              Eigen::VectorXd& f) const {
+  const ShapeTable& t = d_.trial_q;
+  const double* S0 = model_.initial_stress.size() ? model_.initial_stress.data() : nullptr;
+  PointKernel<D> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
+                   opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
+                   model_.density, dt};
+  compute_points<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
+                    stress_.data(), state, model_.material->state_size(dim_), viscosity,
+                    opt_.threads);
+  gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
+                   f.data(), opt_.threads);
 }
 
 void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
@@ -352,7 +351,7 @@ double ExplicitDynamics::max_eigenvalue(int iterations) const {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uni(-1, 1);
   Eigen::VectorXd x(m);
-  for (int i = 0; i < m; ++i) x[i] = prescribed_mask_[i] ? 0 : uni(rng);
+  for (int i = 0; i < m; ++i) x[i] = uni(rng);
   for (const PrescribedVelocity& p : model_.prescribed) x[dim_ * p.particle + p.component] = 0;
   Eigen::VectorXd fp(m), fm(m), Kx(m);
   const bool eulerian = opt_.frame == KernelFrame::eulerian;
@@ -404,7 +403,8 @@ void ExplicitDynamics::step(double dt) {
   du = dt * v_ + 0.5 * dt * dt * a_;
   u_ += du;
   internal_force(u_, du, dt, true, f_new);
-  committed_F_ = F_;
+  // Only the Eulerian frame advances F from the committed one; the Lagrangian F is u's.
+  if (opt_.frame == KernelFrame::eulerian) committed_F_ = F_;
   external_force(t_ + dt, fe_new);
   Eigen::VectorXd& a_new = a_;
   // Energy: trapezoidal work of the internal and external forces over du; at prescribed
@@ -419,12 +419,11 @@ void ExplicitDynamics::step(double dt) {
   energy_.external_work += ext;
   a_new = ((fe_new - f_new).array() * inv_mass_.array()).matrix();
   v_ = v_pred + gamma * dt * a_new;
-  f_int_ = f_new;
-  f_ext_ = fe_new;
+  f_int_.swap(f_new);  // the scratch vectors are overwritten next step
+  f_ext_.swap(fe_new);
   t_ += dt;
   apply_prescribed(t_, v_, a_);
   ++counters_.steps;
-  counters_.force_evaluations += 1;
   if (opt_.frame == KernelFrame::eulerian && counters_.steps % opt_.update_every == 0) retabulate();
   energy_.kinetic = kinetic_energy();
 }
@@ -513,22 +512,27 @@ Eigen::MatrixXd ExplicitDynamics::particle_cauchy_stress() const {
   const Eigen::MatrixXd s = point_cauchy_stress();
   const int nodal = d_.quadrature.nodal_points;
   if (nodal >= n_) return s.leftCols(n_);
-  // Cell rules: the nearest integration point's value (pictures only).
-  ParticleSet pts;
-  pts.dim = dim_;
-  pts.x = Xq_;
-  const NeighbourSearch search(pts);
-  Eigen::MatrixXd out(s.rows(), n_);
-  std::vector<int> near;
-  for (int I = 0; I < n_; ++I) {
-    double radius = spacing_ > 0 ? spacing_ : 1.0;
-    for (near.clear(); near.empty(); radius *= 2) search.within(X_.col(I).data(), radius, near);
-    int best = near.front();
-    for (int q : near)
-      if ((Xq_.col(q) - X_.col(I)).squaredNorm() < (Xq_.col(best) - X_.col(I)).squaredNorm())
-        best = q;
-    out.col(I) = s.col(best);
+  // Cell rules: the nearest integration point's value (pictures only). The reference points
+  // do not move, so the search runs once, on the first call.
+  if (nearest_point_.empty()) {
+    ParticleSet pts;
+    pts.dim = dim_;
+    pts.x = Xq_;
+    const NeighbourSearch search(pts);
+    nearest_point_.resize(n_);
+    std::vector<int> near;
+    for (int I = 0; I < n_; ++I) {
+      double radius = spacing_ > 0 ? spacing_ : 1.0;
+      for (near.clear(); near.empty(); radius *= 2) search.within(X_.col(I).data(), radius, near);
+      int best = near.front();
+      for (int q : near)
+        if ((Xq_.col(q) - X_.col(I)).squaredNorm() < (Xq_.col(best) - X_.col(I)).squaredNorm())
+          best = q;
+      nearest_point_[I] = best;
+    }
   }
+  Eigen::MatrixXd out(s.rows(), n_);
+  for (int I = 0; I < n_; ++I) out.col(I) = s.col(nearest_point_[I]);
   return out;
 }
 

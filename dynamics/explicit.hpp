@@ -79,7 +79,7 @@ struct EnergyBalance {
 
 /// CPU-free counters of what the engine did (timings are the caller's).
 struct DynamicsCounters {
-  long steps = 0, force_evaluations = 0, retabulations = 0;
+  long steps = 0, retabulations = 0;
 };
 
 class ExplicitDynamics {
@@ -132,6 +132,10 @@ class ExplicitDynamics {
   /// the material history; otherwise they are left as they were (trial evaluations).
   void internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt,
                       bool commit, Eigen::VectorXd& f) const;
+  /// The two force loops of internal_force in D dimensions.
+  template <int D>
+  void forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt, bool eulerian,
+              bool viscosity, double* F, double* state, Eigen::VectorXd& f) const;
   void retabulate();
   void external_force(double t, Eigen::VectorXd& f) const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
@@ -147,7 +151,6 @@ class ExplicitDynamics {
 
   Eigen::VectorXd u_, v_, a_, f_int_, f_ext_, inv_mass_;
   Eigen::VectorXd du_, f_new_, fe_new_, v_pred_;  ///< step scratch: no allocation per step
-  std::vector<char> prescribed_mask_;
   // Reference (t = 0) configuration, kept for the Eulerian update.
   Eigen::MatrixXd X_, Xq_;
   Eigen::VectorXd V0_, w0_;
@@ -160,6 +163,7 @@ class ExplicitDynamics {
   // (P, or the Kirchhoff stress τ = J σ in the Eulerian frame), material history.
   mutable std::vector<double> F_, stress_, state_, scratch_F_;
   std::vector<double> committed_F_;
+  mutable std::vector<int> nearest_point_;  ///< cell rules: integration point nearest each particle
 };
 
 /// Parses "lagrangian"/"eulerian" and "verlet"/"newmark", throwing InputError with the valid

@@ -47,14 +47,6 @@ DynamicsOptions dynamics_options(const Params& p) {
   return o;
 }
 
-std::string dynamics_summary(const Params& p) {
-  return fmt::format("{}{}, {}", p.text("frame"),
-                     p.text("frame") == "eulerian"
-                         ? fmt::format(" (every {} steps)", p.integer("update_every"))
-                         : "",
-                     p.text("integrator"));
-}
-
 StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
   StepChoice c;
   c.critical = sim.critical_time_step();

@@ -18,8 +18,6 @@ namespace mfv {
 ParamSchema dynamics_schema(const std::string& default_integrator = "verlet",
                             double default_safety = 0.8);
 DynamicsOptions dynamics_options(const Params& resolved);
-/// "lagrangian" etc., for reports: the options a problem's parameters chose.
-std::string dynamics_summary(const Params& resolved);
 
 /// A time loop to run: end time, times that must be hit exactly (errors are measured
 /// there), and the problem's probes and extra VTK arrays.
