@@ -19,6 +19,16 @@
 
 namespace mfv {
 
+class Catalogue;
+
+/// What an analysis problem gets from the runner: the catalogue (to build variants of the
+/// method, e.g. with a crack moved), the case and the method built from it.
+struct AnalysisContext {
+  const Catalogue& catalogue;
+  const CaseSpec& spec;
+  const Method& method;
+};
+
 /// A linear system from a weak form, with essential conditions u(x_b) = g_b still to impose.
 struct AssembledSystem {
   Eigen::SparseMatrix<double> K;      ///< unknowns interleaved: (u_x, u_y) of particle 0, ...
@@ -122,6 +132,15 @@ class Problem {
   virtual void simulate(const Method& method, Discretization d, CaseResult& r) const {
     throw std::logic_error("simulate called on a static problem");
   }
+  /// Analyses (dispersion, critical time steps, stable domains) return true: the runner then
+  /// calls analyse, which builds the discretizations it needs itself (a lattice patch, a bar
+  /// with a crack swept through it) instead of the problem's particles.
+  virtual bool analysis() const { return false; }
+  /// Fills r.headline (the values bands and baselines check), r.analysis (figures, tables,
+  /// verdicts), r.particles, r.h, r.dim, r.method_description and r.cpu.
+  virtual void analyse(const AnalysisContext& c, CaseResult& r) const {
+    throw std::logic_error("analyse called on a problem that is not an analysis");
+  }
   /// Node counts of a refinement study.
   virtual std::vector<int> resolutions(Level level) const = 0;
   /// Problem-specific headline quantities of a solution (name → value), e.g. peak u'.
@@ -148,6 +167,9 @@ void register_elastic_patch(ProblemRegistry&);
 void register_rod_pulse(ProblemRegistry&);
 void register_prestressed_rod(ProblemRegistry&);
 void register_grk_bar(ProblemRegistry&);
+void register_dispersion(ProblemRegistry&);
+void register_time_step(ProblemRegistry&);
+void register_enriched_bar(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -158,6 +180,9 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_rod_pulse(r);
   register_prestressed_rod(r);
   register_grk_bar(r);
+  register_dispersion(r);
+  register_time_step(r);
+  register_enriched_bar(r);
 }
 
 /// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,

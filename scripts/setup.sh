@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libgsl-dev libvtk9-dev
   libgtest-dev libbenchmark-dev
   libnanoflann-dev libcli11-dev libtomlplusplus-dev libfmt-dev
-  voro++-dev libsuitesparse-dev
+  voro++-dev libsuitesparse-dev libspectra-dev
   gnuplot-nox
 )
 

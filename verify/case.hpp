@@ -91,6 +91,34 @@ struct TransientData {
   std::vector<Frame> frames;
 };
 
+/// What a stability or time-step analysis (a problem with analysis() true) records besides
+/// its headline values: figures of curves, tables for CSV files and one-line verdicts.
+struct AnalysisData {
+  std::string setup;  ///< the analysis settings (lattice, patch, frame, prestress, mass)
+  struct Figure {
+    std::string id;  ///< file stem, unique within the case ("dispersion", "dt-ratio")
+    std::string title, xlabel, ylabel;
+    bool logy = false;
+    std::string style = "lines";  ///< or "linespoints", "points"
+  };
+  struct Curve {
+    std::string figure;  ///< the Figure::id it is drawn in
+    std::string label;
+    std::vector<double> x, y;
+  };
+  struct Table {
+    std::string name;  ///< file stem of the CSV
+    std::vector<std::string> columns;
+    std::vector<std::vector<double>> rows;
+  };
+  std::vector<Figure> figures;
+  std::vector<Curve> curves;
+  std::vector<Table> tables;
+  /// Statements about this case: "stable", "spurious mode at κ = 1.000 π/Δx (θ = 0°)".
+  std::vector<std::string> verdicts;
+  bool empty() const { return setup.empty() && curves.empty() && tables.empty(); }
+};
+
 struct CaseResult {
   CaseSpec spec;
   Params method_params;            ///< resolved, with defaults
@@ -107,6 +135,7 @@ struct CaseResult {
   SolveInfo solve;
   CaseFields fields;
   TransientData transient;  ///< transient problems only (steps > 0)
+  AnalysisData analysis;    ///< analysis problems only
 };
 
 /// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the

@@ -180,6 +180,11 @@ CaseResult run_case(const Catalogue& catalogue, const CaseSpec& spec) {
   r.method_params = catalogue.methods.resolve(spec.method, spec.method_params);
   const auto method = catalogue.methods.create(spec.method, spec.method_params);
   const Domain domain = problem->domain();
+  if (problem->analysis()) {
+    problem->analyse(AnalysisContext{catalogue, r.spec, *method}, r);
+    r.errors_paper = r.errors;
+    return r;
+  }
 
   double t0 = cpu_seconds();
   ParticleSet particles = problem->particles(spec.nodes, spec.perturbation);

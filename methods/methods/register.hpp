@@ -22,6 +22,7 @@ void register_rlm(MethodRegistry&, const MethodParts&);
 void register_kbm(MethodRegistry&, const MethodParts&);  // kbm-ni, kbm-si, kbm-ci
 void register_efg_ni(MethodRegistry&, const MethodParts&);
 void register_efg_ci(MethodRegistry&, const MethodParts&);
+void register_xefg(MethodRegistry&, const MethodParts&);  // 003: EFG with crack enrichment
 
 /// Registers every method: add one line here for a new method.
 inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
@@ -34,6 +35,7 @@ inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
   register_kbm(r, parts);
   register_efg_ni(r, parts);
   register_efg_ci(r, parts);
+  register_xefg(r, parts);
 }
 
 /// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles.
