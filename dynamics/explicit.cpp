@@ -380,6 +380,32 @@ double ExplicitDynamics::max_eigenvalue(int iterations) const {
   return lambda;
 }
 
+void ExplicitDynamics::displace(const Eigen::VectorXd& du) {
+  if (du.size() != dim_ * n_)
+    throw InputError(fmt::format("a displacement increment needs {} entries, got {}", dim_ * n_,
+                                 du.size()));
+  u_ += du;
+  Eigen::VectorXd f(dim_ * n_);
+  internal_force(u_, du, 0, true, f);
+  f_int_ = f;
+  if (opt_.frame == KernelFrame::eulerian) {
+    committed_F_ = F_;
+    retabulate();
+    internal_force(u_, Eigen::VectorXd::Zero(dim_ * n_), 0, true, f_int_);
+  }
+}
+
+Eigen::VectorXd ExplicitDynamics::trial_force(const Eigen::VectorXd& du) const {
+  Eigen::VectorXd f(dim_ * n_);
+  if (opt_.frame == KernelFrame::lagrangian) {
+    internal_force(u_ + du, du, 0, false, f);
+    return f;
+  }
+  ExplicitDynamics moved(*this);
+  moved.displace(du);
+  return moved.f_int_;
+}
+
 double ExplicitDynamics::critical_time_step(int iterations) const {
   const double l = max_eigenvalue(iterations);
   if (!(l > 0)) throw SingularError("the stiffness has no positive eigenvalue: no critical step");

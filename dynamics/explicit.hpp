@@ -100,6 +100,17 @@ class ExplicitDynamics {
   double max_eigenvalue(int iterations = 60) const;
   double critical_time_step(int iterations = 60) const;
 
+  /// Moves the committed state by the displacement increment du as one step would, without
+  /// time, viscosity or energy: Lagrangian u += du; Eulerian F ← (I + Σ du_J ⊗ ∇N_J) F with
+  /// the current tables, then the tables recomputed at the moved positions. Prepares the
+  /// deformed states that stability analyses linearize about.
+  void displace(const Eigen::VectorXd& du);
+  /// The internal force after a trial increment du from the committed state (Eulerian: with
+  /// the tables recomputed at the moved positions, so the kernel's own motion enters), the
+  /// engine left as it was. Its central differences are the engine's tangent stiffness, the
+  /// operator the dispersion analysis of any method linearizes (stability/dispersion.hpp).
+  Eigen::VectorXd trial_force(const Eigen::VectorXd& du) const;
+
   /// Advances one step of size dt.
   void step(double dt);
 

@@ -37,6 +37,10 @@ struct ParticleSet {
   /// Particles per direction of a structured lattice (x fastest: J = i + nx·j), 0 when the
   /// set is unstructured. Q4 elements and lattice cells read it.
   Eigen::Vector2i lattice = Eigen::Vector2i::Zero();
+  /// The lattice is hexagonal (000 §4): odd rows shifted by Δx/2, rows √3/2 Δx apart, so the
+  /// equilateral triangles split each lattice quadrilateral along the diagonal that is
+  /// one spacing long (stress points at triangle centres follow it).
+  bool hexagonal = false;
   Placement placement = Placement::boundary;
   /// Bits of Side: the particle lies on (Placement::boundary) or is the layer nearest to
   /// (Placement::inset) that side of the domain.

@@ -238,6 +238,10 @@ StressPoints make_stress_points(const ParticleSet& particles, const Domain& doma
       const Eigen::Vector2d d = particles.x.col(i + nx * (j + 1));
       if (per_quad == 1) {
         sp.x.col(q) = 0.25 * (a + b + c + d);
+      } else if (particles.hexagonal && j % 2 == 0) {
+        // Row j + 1 is shifted right: the equilateral triangles share the diagonal b–d.
+        sp.x.col(2 * q) = (a + b + d) / 3.0;
+        sp.x.col(2 * q + 1) = (b + c + d) / 3.0;
       } else {
         sp.x.col(2 * q) = (a + b + c) / 3.0;
         sp.x.col(2 * q + 1) = (a + c + d) / 3.0;

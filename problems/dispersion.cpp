@@ -1,5 +1,412 @@
-// placeholder: filled in by issue #5 work (dispersion analyses, 000)
+/// `dispersion`: the von Neumann stability analysis of 000 §3–4 run on any registered method
+/// (stability/dispersion.hpp): an infinite line, rectangular or hexagonal lattice under a
+/// uniform prestress σ̄, Lagrangian or Eulerian kernel, ω²(κ, θ) from the method's own
+/// linearized internal force, and a verdict (stable / spurious mode at κ / tensile-unstable
+/// above κ). Units: Δx = 1, ρ = 1, St Venant–Kirchhoff with E = 1; frequencies are printed as
+/// ω Δx/(c π) and wave numbers as κ Δx/π, with c² = E/ρ in 1D and c² = μ/ρ in 2D (000 Figs
+/// 2–12); σ̄ = σ/E in 1D (C^{σT} = E at F = I) and σ/μ in 2D.
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <fmt/format.h>
+
 #include "problems/problem.hpp"
+#include "stability/dispersion.hpp"
+#include "verify/catalogue.hpp"
+#include "verify/runner.hpp"
+
 namespace mfv {
-void register_dispersion(ProblemRegistry&) {}
+
+namespace {
+
+constexpr const char* kUnstable = "unstable";
+constexpr const char* kSpurious = "spurious mode";
+constexpr const char* kOnset = "onset kappa (pi/dx)";
+constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
+constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
+constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
+
+std::vector<double> parse_angles(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ':')) {
+    try {
+      std::size_t used = 0;
+      const double a = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(a)) throw std::invalid_argument(item);
+      out.push_back(a);
+    } catch (const std::exception&) {
+      throw InputError(fmt::format("angles='{}': '{}' is not a number; give degrees separated "
+                                   "by colons, e.g. angles=0:30:45",
+                                   text, item));
+    }
+  }
+  if (out.empty()) throw InputError("angles is empty; give degrees separated by colons, e.g. 0:45");
+  return out;
+}
+
+class Dispersion final : public Problem {
+ public:
+  explicit Dispersion(const Params& p)
+      : lattice_(lattice_kind_from(p.text("lattice"))),
+        frame_(kernel_frame_from(p.text("frame"))),
+        sigma_(p.number("sigma")),
+        biaxial_(p.text("stress") == "biaxial"),
+        nu_(p.number("nu")),
+        angles_(parse_angles(p.text("angles"))),
+        points_(p.integer("points")),
+        consistent_(p.text("mass") == "consistent"),
+        map_(p.text("map") == "sigma-kappa"),
+        map_limit_(p.number("map_limit")),
+        half_width_(p.integer("half_width")) {
+    if (lattice_ == LatticeKind::line && angles_.size() > 1)
+      throw InputError("a line lattice has one direction: drop `angles` or use a 2D lattice");
+    if (points_ < 3) throw InputError(fmt::format("points = {} must be at least 3", points_));
+    if (!(nu_ >= 0 && nu_ < 0.5)) throw InputError(fmt::format("nu = {} must lie in [0, 0.5)", nu_));
+  }
+
+  Domain domain() const override {
+    return lattice_ == LatticeKind::line ? Domain::interval(-1, 1)
+                                         : Domain::rectangle(-1, -1, 1, 1);
+  }
+  int components() const override { return lattice_ == LatticeKind::line ? 1 : 2; }
+  AssembledSystem assemble(const Discretization&) const override {
+    throw std::logic_error("dispersion is an analysis: the runner calls analyse");
+  }
+  bool analysis() const override { return true; }
+  std::string resolution_name() const override { return "lattice"; }
+  std::vector<int> resolutions(Level) const override { return {1}; }
+
+  void analyse(const AnalysisContext& c, CaseResult& r) const override;
+  std::vector<PublishedValue> published() const override;
+  std::vector<std::string> published_notes() const override;
+  std::vector<Finding> findings() const override;
+
+ private:
+  int dim() const { return lattice_ == LatticeKind::line ? 1 : 2; }
+  /// E in 1D, μ in 2D: the modulus σ̄ and the frequencies are normalized by.
+  double modulus() const { return dim() == 1 ? 1.0 : 1.0 / (2 * (1 + nu_)); }
+  DispersionSetup setup(const Catalogue& cat, double sigma_bar) const;
+
+  LatticeKind lattice_;
+  KernelFrame frame_;
+  double sigma_;
+  bool biaxial_;
+  double nu_;
+  std::vector<double> angles_;
+  int points_;
+  bool consistent_, map_;
+  double map_limit_;
+  int half_width_;
+};
+
+DispersionSetup Dispersion::setup(const Catalogue& cat, double sigma_bar) const {
+  DispersionSetup s;
+  s.lattice = lattice_;
+  s.spacing = 1;
+  s.frame = frame_;
+  Params m;
+  m.set("E", 1.0);
+  if (dim() == 2) {
+    m.set("nu", nu_);
+    m.set("plane", "strain");
+  }
+  s.material = cat.materials.create("svk", m);
+  s.density = 1;
+  const int d = dim();
+  s.prestress = Eigen::MatrixXd::Zero(d, d);
+  s.prestress(0, 0) = sigma_bar * modulus();
+  if (d == 2 && biaxial_) s.prestress(1, 1) = sigma_bar * modulus();
+  s.consistent_mass = consistent_;
+  s.half_width = half_width_;
+  return s;
+}
+
+std::string degrees(double a) { return fmt::format("{:g}°", a); }
+
+void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
+  const double pi = std::numbers::pi;
+  const double t0 = cpu_seconds();
+  const BlochRow row = bloch_row(c.method, setup(c.catalogue, sigma_));
+  const double t1 = cpu_seconds();
+  std::vector<double> thetas;
+  for (double a : angles_) thetas.push_back(a * pi / 180);
+  const StabilityVerdict v = stability_verdict(row, thetas, points_, modulus(), 1.0, sigma_ > 0);
+  r.particles = row.patch_particles;
+  r.h = 1;
+  r.dim = dim();
+  r.components = dim();
+  r.method_description = row.description;
+  AnalysisData& a = r.analysis;
+  a.setup = fmt::format(
+      "{} lattice, Δx = 1, patch of {} particles (half width {}), neighbours within {:.2f} Δx, "
+      "{} kernel, St Venant-Kirchhoff E = 1{}, ρ = 1, prestress σ̄ = {:g}{} (σ/{}), {} mass, "
+      "{} force evaluations (central differences, step 1e-6 Δx)",
+      to_string(lattice_), row.patch_particles, row.half_width, row.influence_radius,
+      frame_ == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
+      dim() == 2 ? fmt::format(" ν = {:g} plane strain", nu_) : "", sigma_,
+      dim() == 2 ? (biaxial_ ? " biaxial" : " uniaxial (xx)") : "", dim() == 1 ? "E" : "μ",
+      consistent_ ? "consistent" : "lumped", row.force_evaluations);
+  a.verdicts.push_back(v.text);
+  a.figures.push_back({"dispersion",
+                       fmt::format("Dispersion, {} kernel, σ̄ = {:g}",
+                                   frame_ == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
+                                   sigma_),
+                       "κ Δx / π", "ω Δx / (c π)  (negative: −|ω| of an unstable mode)", false,
+                       "lines"});
+  AnalysisData::Table table{"dispersion", {"theta_deg", "kappa_over_pi_dx"}, {}};
+  for (int b = 0; b < dim(); ++b) table.columns.push_back(fmt::format("omega2_branch{}", b + 1));
+  table.columns.push_back("max_abs_imag_omega2");
+  for (double angle : angles_) {
+    const DispersionBranch br = dispersion_branch(row, angle * pi / 180, points_, modulus(), 1.0);
+    for (int b = 0; b < dim(); ++b) {
+      AnalysisData::Curve cv{"dispersion",
+                             dim() == 1 ? "ω" : fmt::format("θ = {} branch {}", degrees(angle), b + 1),
+                             {}, {}};
+      for (std::size_t i = 0; i < br.kappa.size(); ++i) {
+        const double w2 = br.omega2[i][b];
+        cv.x.push_back(br.kappa[i]);
+        cv.y.push_back(w2 >= 0 ? std::sqrt(w2) : -std::sqrt(-w2));
+      }
+      a.curves.push_back(std::move(cv));
+    }
+    for (std::size_t i = 0; i < br.kappa.size(); ++i) {
+      std::vector<double> line{angle, br.kappa[i]};
+      for (double w2 : br.omega2[i]) line.push_back(w2);
+      line.push_back(br.imaginary[i]);
+      table.rows.push_back(std::move(line));
+    }
+  }
+  a.tables.push_back(std::move(table));
+  if (map_) {
+    // The operator is affine in the prestress: two rows give the whole (σ̄, κ) plane.
+    const BlochRow zero = bloch_row(c.method, setup(c.catalogue, 0.0));
+    const BlochRow unit = bloch_row(c.method, setup(c.catalogue, 1.0));
+    a.figures.push_back({"stable-domain",
+                         "Stable domain: stable between the curves (000 Figs 5-6)", "κ Δx / π",
+                         "σ̄", false, "lines"});
+    AnalysisData::Table mt{"stable-domain", {"theta_deg", "kappa_over_pi_dx", "sigma_lower", "sigma_upper"}, {}};
+    for (double angle : angles_) {
+      const ThresholdCurve tc =
+          stress_threshold(zero, unit, angle * pi / 180, points_, map_limit_, modulus(), 1.0);
+      const std::string at = dim() == 1 ? "" : fmt::format(" θ = {}", degrees(angle));
+      a.curves.push_back({"stable-domain", "lower bound" + at, tc.kappa, tc.lower});
+      a.curves.push_back({"stable-domain", "upper bound" + at, tc.kappa, tc.upper});
+      for (std::size_t i = 0; i < tc.kappa.size(); ++i)
+        mt.rows.push_back({angle, tc.kappa[i], tc.lower[i], tc.upper[i]});
+    }
+    a.tables.push_back(std::move(mt));
+  }
+  r.headline[kUnstable] = v.unstable ? 1 : 0;
+  r.headline[kSpurious] = v.spurious ? 1 : 0;
+  r.headline[kMinRatio] = v.min_ratio;
+  r.headline[kCutoff] = v.cutoff_omega;
+  if (v.unstable) r.headline[kOnset] = v.onset;
+  if (v.spurious) r.headline[kSpuriousKappa] = v.spurious_kappa;
+  r.cpu.assembly = t1 - t0;
+  r.cpu.solve = cpu_seconds() - t1;
+}
+
+std::vector<PublishedValue> Dispersion::published() const {
+  PublishedValue onset;
+  onset.source = "000 §3.1.2, Fig. 3";
+  onset.quantity = kOnset;
+  onset.method = "kbm-ni";
+  onset.method_params = Params::parse("kernel=quartic-spline,dmax=1.5");
+  onset.nodes = 1;
+  onset.value = 0.6;
+  onset.note = "read off the figure (\"about 0.6π/Δx\")";
+  onset.problem_params = Params::parse("lattice=line,frame=eulerian,sigma=1");
+  return {onset};
+}
+
+std::vector<std::string> Dispersion::published_notes() const {
+  return {
+      "The analysis differentiates the method's own explicit-dynamics force, so an Eulerian "
+      "kernel's Shepard normalization and correction factor move with the particles. 000 "
+      "eq 3.16 perturbs only the kernel derivative, w̃_{I,x} = w_{I,xx}(ũ_J − ũ_I); the "
+      "catalogue warns that the onset it reports (about 0.6π/Δx at σ̄ = 1, D_mx = 1.5) depends on "
+      "this. The closed forms (stability/closed_forms.md) are evaluated beside ours."};
+}
+
+/// The studies of one method whose problem parameters match `want` (missing keys take the
+/// defaults of the dispersion schema).
+std::vector<const StudySummary*> matching(const std::vector<StudySummary>& all,
+                                          const std::string& method, const std::string& want,
+                                          const std::string& mparams = "") {
+  const Params w = Params::parse(want), mp = Params::parse(mparams);
+  static const Params defaults = Params::parse(
+      "lattice=line,frame=lagrangian,sigma=0,stress=biaxial,mass=lumped");
+  std::vector<const StudySummary*> out;
+  for (const auto& s : all) {
+    if ((!method.empty() && s.method != method) || s.headlines.empty()) continue;
+    bool ok = true;
+    for (const auto& [key, value] : w.values()) {
+      const Params& from = s.problem_params.has(key) ? s.problem_params : defaults;
+      if (!from.has(key) || format_value(from.values().at(key)) != format_value(value)) ok = false;
+    }
+    for (const auto& [key, value] : mp.values())
+      if (!s.params.has(key) || format_value(s.params.values().at(key)) != format_value(value))
+        ok = false;
+    if (ok) out.push_back(&s);
+  }
+  return out;
+}
+
+double head(const StudySummary& s, const std::string& key) {
+  const auto& h = s.headlines.back();
+  const auto it = h.find(key);
+  return it == h.end() ? NAN : it->second;
+}
+
+double sigma_of(const StudySummary& s) {
+  return s.problem_params.has("sigma") ? s.problem_params.number("sigma") : 0.0;
+}
+
+std::vector<Finding> Dispersion::findings() const {
+  std::vector<Finding> f;
+  f.push_back(
+      {"000 §3.1.1, §4.1.1", "Lagrangian kernel, nodal integration: ω = 0 at κ = π/Δx whatever the stress (rank deficiency)",
+       "every nodal Lagrangian study has a spurious mode at κ = 1 π/Δx (line) or on the zone boundary (2D)",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         int yes = 0, no = 0;
+         std::string ours;
+         for (const auto* s : matching(all, "", "frame=lagrangian")) {
+           if (s->method.find("-ni") == std::string::npos) continue;
+           const bool ok = head(*s, kSpurious) > 0.5;
+           (ok ? yes : no) += 1;
+           ours += fmt::format("{}{} σ̄={:g}: {}", ours.empty() ? "" : "; ", s->label, sigma_of(*s),
+                               ok ? fmt::format("zero at κ = {:.3f}", head(*s, kSpuriousKappa))
+                                  : "no zero");
+         }
+         if (yes + no == 0) return {"not run", "no nodal Lagrangian study"};
+         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
+       }});
+  f.push_back(
+      {"000 §3.1.1, Fig. 5", "Lagrangian kernel: unstable exactly when C̄ = C + σ ≤ 0, as the continuum",
+       "Lagrangian line studies: unstable iff σ̄ ≤ −1; the σ̄-κ map's lower bound is −1 at every κ",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         int right = 0, wrong = 0;
+         std::string ours;
+         for (const auto* s : matching(all, "", "frame=lagrangian,lattice=line")) {
+           const double sg = sigma_of(*s);
+           const bool unstable = head(*s, kUnstable) > 0.5;
+           const bool ok = unstable == (sg <= -1 + 1e-12);
+           (ok ? right : wrong) += 1;
+           ours += fmt::format("{}{} σ̄={:g}: {}", ours.empty() ? "" : "; ", s->label, sg,
+                               unstable ? "unstable" : "stable");
+         }
+         if (right + wrong == 0) return {"not run", "no Lagrangian line study"};
+         return {wrong == 0 ? "reproduced" : "not reproduced", ours};
+       }});
+  f.push_back(
+      {"000 §3.1.2, Fig. 3", "Eulerian kernel in tension: tensile instability above κ ≈ 0.6π/Δx at σ̄ = 1, D_mx = 1.5; the onset falls as σ̄ grows",
+       "kbm-ni quartic spline D_mx 1.5, Eulerian, σ̄ = 1: unstable with onset within 0.15 of 0.6; a larger σ̄ has a lower onset",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         const auto one = matching(all, "kbm-ni", "frame=eulerian,lattice=line,sigma=1", "dmax=1.5");
+         if (one.empty()) return {"not run", "no Eulerian kbm-ni dmax=1.5 σ̄=1 study"};
+         const double onset = head(*one.front(), kOnset);
+         std::string ours = fmt::format("onset {:.3f} π/Δx at σ̄ = 1", onset);
+         bool falls = true;
+         for (const auto* s : matching(all, "kbm-ni", "frame=eulerian,lattice=line", "dmax=1.5"))
+           if (sigma_of(*s) > 1 + 1e-9) {
+             const double o = head(*s, kOnset);
+             ours += fmt::format("; {:.3f} at σ̄ = {:g}", o, sigma_of(*s));
+             if (!(o < onset)) falls = false;
+           }
+         const bool near = std::abs(onset - 0.6) <= 0.15;
+         return {near && falls ? "reproduced" : std::isfinite(onset) ? "partly" : "not reproduced",
+                 ours};
+       }});
+  f.push_back(
+      {"000 §3.2, Fig. 7", "1D stress points: ω > 0 at the cut-off κ = π/Δx, falling as D_mx grows, higher for the exponential than the quartic weight",
+       "Lagrangian kbm-si line studies: cut-off ω > 0 for every D_mx, decreasing in D_mx per kernel, exponential above quartic at equal D_mx",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         std::map<std::string, std::map<double, double>> cut;
+         for (const auto* s : matching(all, "kbm-si", "frame=lagrangian,lattice=line,sigma=0")) {
+           const std::string k = s->params.has("kernel") ? s->params.text("kernel") : "quartic-spline";
+           const double d = s->params.has("dmax") ? s->params.number("dmax") : 2.4;
+           cut[k][d] = head(*s, kCutoff);
+         }
+         if (cut.empty()) return {"not run", "no Lagrangian kbm-si line study at σ̄ = 0"};
+         bool positive = true, falling = true, exp_above = true;
+         std::string ours;
+         for (const auto& [k, byd] : cut) {
+           double last = 1e300;
+           for (const auto& [d, w] : byd) {
+             ours += fmt::format("{}{} D_mx {:g}: {:.4f}", ours.empty() ? "" : "; ", k, d, w);
+             if (!(w > 1e-3)) positive = false;
+             if (!(w < last)) falling = false;
+             last = w;
+           }
+         }
+         if (cut.count("exponential") && cut.count("quartic-spline"))
+           for (const auto& [d, w] : cut["exponential"])
+             if (cut["quartic-spline"].count(d) && !(w > cut["quartic-spline"][d])) exp_above = false;
+         const int ok = positive + falling + exp_above;
+         return {ok == 3 ? "reproduced" : ok == 0 ? "not reproduced" : "partly", ours};
+       }});
+  f.push_back(
+      {"000 §4.2.1, Fig. 11", "2D stress points: quadrilateral centres leave a spurious mode at θ = 45° (zone corner); triangle centres remove it",
+       "Lagrangian kbm-si rectangular studies: quad-centres has a spurious mode at θ = 45°, triangle-centres none",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         const auto quad = matching(all, "kbm-si", "frame=lagrangian,lattice=rectangular", "layout=quad-centres");
+         const auto tri = matching(all, "kbm-si", "frame=lagrangian,lattice=rectangular", "layout=triangle-centres");
+         if (quad.empty() || tri.empty()) return {"not run", "needs kbm-si layout=quad-centres and layout=triangle-centres on the rectangular lattice"};
+         const bool q = head(*quad.front(), kSpurious) > 0.5, t = head(*tri.front(), kSpurious) > 0.5;
+         const std::string ours = fmt::format(
+             "quad centres: {}; triangle centres: {}",
+             q ? fmt::format("zero at κ = {:.3f} π/Δx", head(*quad.front(), kSpuriousKappa)) : "no zero",
+             t ? fmt::format("zero at κ = {:.3f} π/Δx", head(*tri.front(), kSpuriousKappa)) : "no zero");
+         return {q && !t ? "reproduced" : q || !t ? "partly" : "not reproduced", ours};
+       }});
+  f.push_back(
+      {"000 §4.2.2, Fig. 12", "2D Eulerian kernel with stress points stays tensile-unstable (σ̄ = 2)",
+       "Eulerian kbm-si 2D studies at σ̄ = 2 are unstable",
+       [](const std::vector<StudySummary>& all) -> Verdict {
+         int yes = 0, no = 0;
+         std::string ours;
+         for (const auto* s : matching(all, "kbm-si", "frame=eulerian,sigma=2")) {
+           if (s->problem_params.has("lattice") && s->problem_params.text("lattice") == "line") continue;
+           const bool u = head(*s, kUnstable) > 0.5;
+           (u ? yes : no) += 1;
+           ours += fmt::format("{}{} {}: {}", ours.empty() ? "" : "; ", s->label,
+                               s->problem_params.has("lattice") ? s->problem_params.text("lattice") : "line",
+                               u ? fmt::format("onset {:.3f} π/Δx", head(*s, kOnset)) : "stable");
+         }
+         if (yes + no == 0) return {"not run", "no 2D Eulerian kbm-si study at σ̄ = 2"};
+         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
+       }});
+  return f;
+}
+
+}  // namespace
+
+void register_dispersion(ProblemRegistry& r) {
+  ParamSchema s{
+      ParamSpec::choice("lattice", "line", {"line", "rectangular", "hexagonal"},
+                        "infinite uniform lattice (000 §3: line; §4 Fig. 8: 2D)"),
+      ParamSpec::choice("frame", "lagrangian", {"lagrangian", "eulerian"}, "kernel frame (001 §3.1)"),
+      ParamSpec::number("sigma", 0.0, "prestress sigma/E (1D) or sigma/mu (2D); > 0 tension"),
+      ParamSpec::choice("stress", "biaxial", {"biaxial", "uniaxial"},
+                        "2D prestress: sigma in xx and yy, or xx only"),
+      ParamSpec::number("nu", 0.25, "2D: Poisson's ratio of the plane-strain material (lambda = mu at 0.25)"),
+      ParamSpec::choice("angles", "0", {}, "wave directions theta in degrees, colon-separated (2D), e.g. 0:30:45:90"),
+      ParamSpec::count("points", 101, 3, "wave numbers per direction, 0 to the Brillouin-zone boundary"),
+      ParamSpec::choice("mass", "lumped", {"lumped", "consistent"},
+                        "lumped rho V (000) or the consistent mass (Galerkin methods)"),
+      ParamSpec::choice("map", "none", {"none", "sigma-kappa"},
+                        "also compute the stable domain in the (sigma, kappa) plane (000 Figs 5-6)"),
+      ParamSpec::positive("map_limit", 3.0, "the map searches sigma in [-limit, limit]"),
+      ParamSpec::count("half_width", 0, 0, "patch half width in spacings; 0: from the supports"),
+  };
+  r.add("dispersion",
+        "von Neumann dispersion analysis of any method on an infinite line, rectangular or "
+        "hexagonal lattice under prestress: omega(kappa, theta), spurious modes, tensile "
+        "instability (000 §3-4)",
+        s, [](const Params& p) { return std::make_unique<Dispersion>(p); });
+}
+
 }  // namespace mfv

@@ -1,1 +1,315 @@
-// placeholder: filled in by issue #5 work
+#include "stability/dispersion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+#include "methods/core/errors.hpp"
+
+namespace mfv {
+
+namespace {
+
+constexpr double kZero = 1e-7;  ///< |ω²| below this many (c π/Δx)² counts as zero
+
+/// Largest distance between the centre particle and the points its test function samples,
+/// and between those points and the particles their trial functions involve.
+void support_radii(const Discretization& d, int centre, double& r_test, double& r_trial) {
+  r_test = r_trial = 0;
+  const Eigen::VectorXd xc = d.particles.x.col(centre);
+  for (int q = 0; q < d.test_q.points(); ++q)
+    for (int e = d.test_q.offsets[q]; e < d.test_q.offsets[q + 1]; ++e) {
+      if (d.test_q.index[e] != centre) continue;
+      const Eigen::VectorXd xq = d.quadrature.points.col(q);
+      r_test = std::max(r_test, (xq - xc).norm());
+      for (int k = d.trial_q.offsets[q]; k < d.trial_q.offsets[q + 1]; ++k)
+        r_trial = std::max(r_trial, (xq - d.particles.x.col(d.trial_q.index[k])).norm());
+      for (int k = d.test_q.offsets[q]; k < d.test_q.offsets[q + 1]; ++k)
+        r_trial = std::max(r_trial, (xq - d.particles.x.col(d.test_q.index[k])).norm());
+    }
+}
+
+int round_half_width(LatticeKind kind, double w) {
+  int hw = static_cast<int>(std::ceil(w - 1e-9));
+  if (kind == LatticeKind::hexagonal && hw % 2 != 0) ++hw;
+  return std::max(hw, 2);
+}
+
+Discretization discretize_patch(const Method& method, const LatticePatch& p) {
+  return method.discretize(p.domain, p.particles, 1);
+}
+
+}  // namespace
+
+BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
+  if (!s.material) throw InputError("a dispersion analysis needs a material");
+  if (!(s.density > 0)) throw InputError(fmt::format("density {} must be positive", s.density));
+  if (!(s.step > 0 && s.step < 1e-2))
+    throw InputError(fmt::format("finite-difference step {} must lie in (0, 1e-2)", s.step));
+  const double dx = s.spacing;
+  const int dim = s.lattice == LatticeKind::line ? 1 : 2;
+  for (const Eigen::MatrixXd* m : {&s.prestress, &s.deformation})
+    if (m->size() != 0 && (m->rows() != dim || m->cols() != dim))
+      throw InputError(fmt::format("the prestress and the deformation of a {} lattice must be "
+                                   "{}×{} matrices",
+                                   to_string(s.lattice), dim, dim));
+  // 1. The reach of the operator: test support of the centre plus trial support of its
+  //    points; the Eulerian kernel's tables at those points also move with their own
+  //    neighbours (normalization, correction, volumes), one trial radius further.
+  LatticePatch probe = lattice_patch(s.lattice, dx, s.lattice == LatticeKind::line ? 12 : 8);
+  double r_test = 0, r_trial = 0;
+  {
+    const Discretization d = discretize_patch(method, probe);
+    support_radii(d, probe.centre, r_test, r_trial);
+  }
+  if (!(r_test > 0))
+    throw InputError("the method's test function of the centre particle samples no point: "
+                     "nothing to analyse");
+  double reach = r_test + r_trial;
+  if (s.frame == KernelFrame::eulerian) reach += r_trial;
+  // 2. A patch whose centre sees only interior particles: every point within reach of the
+  //    centre has its whole (trial) support and Voronoi cells inside.
+  const int needed = round_half_width(s.lattice, (reach + r_trial) / dx + 2);
+  if (s.half_width > 0 && s.half_width < needed)
+    throw InputError(fmt::format("half_width {} is smaller than the {} spacings the method's "
+                                 "supports reach; leave it 0 (automatic) or use {} or more",
+                                 s.half_width, needed, needed));
+  const int hw = s.half_width > 0 ? round_half_width(s.lattice, s.half_width) : needed;
+  const LatticePatch patch = lattice_patch(s.lattice, dx, hw);
+  Discretization d = discretize_patch(method, patch);
+  BlochRow row;
+  row.dim = dim;
+  row.spacing = dx;
+  row.lattice = s.lattice;
+  row.half_width = hw;
+  row.patch_particles = patch.particles.size();
+  row.influence_radius = reach / dx;
+  row.description = d.description;
+  const int n = patch.particles.size(), c = patch.centre;
+  const Eigen::MatrixXd X = patch.particles.x;
+  row.lumped_mass = s.density * patch.particles.volume[c];
+  if (s.consistent_mass) {
+    if (d.particle_values || static_cast<int>(d.trial_q.value.size()) != d.trial_q.entries())
+      throw InputError(fmt::format("{} has no trial shape-function values at its points, so no "
+                                   "consistent mass; use mass=lumped",
+                                   d.description));
+  }
+  // 3. The engine on the patch, moved to the deformed state if there is one.
+  DynamicsModel model;
+  model.material = s.material;
+  model.density = s.density;
+  model.mass = lumped_masses(patch.particles, s.density, MassLumping::volume);
+  if (s.prestress.size()) model.initial_stress = s.prestress;
+  DynamicsOptions opt;
+  opt.frame = s.frame;
+  opt.threads = 1;
+  std::vector<int> neighbours;
+  for (int J = 0; J < n; ++J)
+    if ((X.col(J) - X.col(c)).norm() <= reach + 1e-9 * dx) neighbours.push_back(J);
+  // Consistent mass row from the t = 0 tables (the reference configuration).
+  std::vector<double> mass_row;
+  if (s.consistent_mass) {
+    Eigen::VectorXd m = Eigen::VectorXd::Zero(n);
+    const ShapeTable& t = d.trial_q;
+    for (int q = 0; q < t.points(); ++q) {
+      double nc = 0;
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
+        if (t.index[e] == c) nc = t.value[e];
+      if (nc == 0) continue;
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
+        m[t.index[e]] += s.density * d.quadrature.weights[q] * nc * t.value[e];
+    }
+    for (int J : neighbours) mass_row.push_back(m[J]);
+  }
+  ExplicitDynamics engine(method, std::move(d), std::move(model), opt);
+  if (s.deformation.size()) {
+    const Eigen::MatrixXd H = s.deformation - Eigen::MatrixXd::Identity(dim, dim);
+    Eigen::VectorXd u0(dim * n);
+    for (int J = 0; J < n; ++J) u0.segment(dim * J, dim) = H * X.col(J);
+    engine.displace(u0);
+  }
+  // 4. K_0J by central differences of the engine's force at the centre.
+  const double eps = s.step * dx;
+  Eigen::VectorXd du = Eigen::VectorXd::Zero(dim * n);
+  for (int J : neighbours) {
+    Eigen::MatrixXd K(dim, dim);
+    for (int k = 0; k < dim; ++k) {
+      du[dim * J + k] = eps;
+      const Eigen::VectorXd fp = engine.trial_force(du);
+      du[dim * J + k] = -eps;
+      const Eigen::VectorXd fm = engine.trial_force(du);
+      du[dim * J + k] = 0;
+      K.col(k) = (fp.segment(dim * c, dim) - fm.segment(dim * c, dim)) / (2 * eps);
+      row.force_evaluations += 2;
+    }
+    row.offset.push_back(X.col(J) - X.col(c));
+    row.stiffness.push_back(K);
+  }
+  row.mass = std::move(mass_row);
+  return row;
+}
+
+std::vector<double> BlochRow::omega2(const Eigen::VectorXd& kappa, double* imaginary) const {
+  using cd = std::complex<double>;
+  Eigen::MatrixXcd D = Eigen::MatrixXcd::Zero(dim, dim);
+  cd M = mass.empty() ? cd(lumped_mass) : cd(0);
+  for (std::size_t J = 0; J < offset.size(); ++J) {
+    const cd phase = std::exp(cd(0, kappa.dot(offset[J])));
+    D += stiffness[J].cast<cd>() * phase;
+    if (!mass.empty()) M += mass[J] * phase;
+  }
+  std::vector<double> out;
+  double im = 0;
+  if (dim == 1) {
+    const cd w = D(0, 0) / M;
+    out.push_back(w.real());
+    im = std::abs(w.imag());
+  } else {
+    Eigen::ComplexEigenSolver<Eigen::MatrixXcd> es(D / M, false);
+    for (int k = 0; k < dim; ++k) {
+      out.push_back(es.eigenvalues()[k].real());
+      im = std::max(im, std::abs(es.eigenvalues()[k].imag()));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  if (imaginary) *imaginary = im;
+  return out;
+}
+
+BlochRow BlochRow::combine(const BlochRow& a, const BlochRow& b, double s) {
+  if (a.offset.size() != b.offset.size())
+    throw std::logic_error("combining Bloch rows of different patches");
+  BlochRow r = a;
+  for (std::size_t J = 0; J < a.stiffness.size(); ++J)
+    r.stiffness[J] = a.stiffness[J] + s * (b.stiffness[J] - a.stiffness[J]);
+  return r;
+}
+
+DispersionBranch dispersion_branch(const BlochRow& row, double theta, int points,
+                                   double modulus, double density) {
+  if (points < 2) throw InputError(fmt::format("a branch needs at least 2 wave numbers, got {}", points));
+  const double pi = std::numbers::pi, unit = pi / row.spacing;
+  const double scale = modulus / density * unit * unit;
+  const double kmax = brillouin_boundary(row.lattice, row.spacing, theta);
+  DispersionBranch b;
+  b.theta = theta;
+  Eigen::VectorXd dir(row.dim);
+  if (row.dim == 1) dir << 1;
+  else dir << std::cos(theta), std::sin(theta);
+  for (int i = 0; i < points; ++i) {
+    const double k = kmax * i / (points - 1);
+    double im = 0;
+    std::vector<double> w = row.omega2(k * dir, &im);
+    for (double& v : w) v /= scale;
+    b.kappa.push_back(k / unit);
+    b.omega2.push_back(std::move(w));
+    b.imaginary.push_back(im / scale);
+  }
+  return b;
+}
+
+namespace {
+
+double lowest(const BlochRow& row, double k, const Eigen::VectorXd& dir, double scale) {
+  return row.omega2(k * dir)[0] / scale;
+}
+
+}  // namespace
+
+StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double>& thetas,
+                                   int points, double modulus, double density, bool tension) {
+  if (thetas.empty()) throw InputError("a stability verdict needs at least one direction");
+  const double pi = std::numbers::pi, unit = pi / row.spacing;
+  const double scale = modulus / density * unit * unit;
+  StabilityVerdict v;
+  double min_ratio = 1e300;
+  for (std::size_t t = 0; t < thetas.size(); ++t) {
+    const double theta = thetas[t];
+    Eigen::VectorXd dir(row.dim);
+    if (row.dim == 1) dir << 1;
+    else dir << std::cos(theta), std::sin(theta);
+    const double kmax = brillouin_boundary(row.lattice, row.spacing, theta);
+    double prev_k = 0;
+    bool found_onset = false;
+    for (int i = 1; i < points; ++i) {
+      const double k = kmax * i / (points - 1);
+      const double w = lowest(row, k, dir, scale);
+      const double kn = k / unit;
+      if (kn > 0.02) min_ratio = std::min(min_ratio, w / (kn * kn));
+      if (w < -kZero && !found_onset) {
+        found_onset = true;
+        // Bisection on the sign of ω² between the last stable sample and this one.
+        double lo = prev_k, hi = k;
+        for (int it = 0; it < 50; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          (lowest(row, mid, dir, scale) < -kZero ? hi : lo) = mid;
+        }
+        const double onset = hi / unit;
+        if (!v.unstable || onset < v.onset) {
+          v.onset = onset;
+          v.onset_theta = theta * 180 / pi;
+        }
+        v.unstable = true;
+      } else if (std::abs(w) <= kZero && kn > 0.05 && !v.spurious) {
+        v.spurious = true;
+        v.spurious_kappa = kn;
+        v.spurious_theta = theta * 180 / pi;
+      }
+      if (w >= -kZero) prev_k = k;
+      if (t == 0 && i == points - 1) v.cutoff_omega = std::sqrt(std::max(w, 0.0));
+    }
+  }
+  v.min_ratio = min_ratio;
+  if (v.unstable)
+    v.text = fmt::format("{}unstable above κ = {:.3f} π/Δx (θ = {:g}°)", tension ? "tensile-" : "",
+                         v.onset, v.onset_theta);
+  if (v.spurious)
+    v.text += fmt::format("{}spurious mode at κ = {:.3f} π/Δx (θ = {:g}°)",
+                          v.text.empty() ? "" : "; ", v.spurious_kappa, v.spurious_theta);
+  if (v.text.empty()) v.text = "stable";
+  return v;
+}
+
+ThresholdCurve stress_threshold(const BlochRow& unstressed, const BlochRow& stressed, double theta,
+                                int points, double limit, double modulus, double density) {
+  const double pi = std::numbers::pi, unit = pi / unstressed.spacing;
+  const double scale = modulus / density * unit * unit;
+  const double kmax = brillouin_boundary(unstressed.lattice, unstressed.spacing, theta);
+  Eigen::VectorXd dir(unstressed.dim);
+  if (unstressed.dim == 1) dir << 1;
+  else dir << std::cos(theta), std::sin(theta);
+  ThresholdCurve c;
+  const int grid = 200;
+  for (int i = 1; i < points; ++i) {
+    const double k = kmax * i / (points - 1);
+    auto h = [&](double sigma) {
+      return lowest(BlochRow::combine(unstressed, stressed, sigma), k, dir, scale);
+    };
+    auto edge = [&](double sign) {
+      if (h(0) < -kZero) return std::numeric_limits<double>::quiet_NaN();
+      double last = 0;
+      for (int g = 1; g <= grid; ++g) {
+        const double s = sign * limit * g / grid;
+        if (h(s) < -kZero) {
+          double lo = last, hi = s;
+          for (int it = 0; it < 40; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            (h(mid) < -kZero ? hi : lo) = mid;
+          }
+          return 0.5 * (lo + hi);
+        }
+        last = s;
+      }
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    c.kappa.push_back(k / unit);
+    c.lower.push_back(edge(-1));
+    c.upper.push_back(edge(+1));
+  }
+  return c;
+}
+
+}  // namespace mfv

@@ -144,6 +144,8 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
         throw InputError(fmt::format("parameter '{}' of {} must be <= {}, got {} ({})",
                                      spec.name, owner, *spec.max, *d, spec.description));
     } else {
+      // Free text (no choices) takes a number as its printed form: angles=45.
+      if (spec.choices.empty() && std::holds_alternative<double>(v)) v = format_value(v);
       const std::string* s = std::get_if<std::string>(&v);
       if (!s)
         throw InputError(fmt::format("parameter '{}' of {} must be one of the words below, got a "

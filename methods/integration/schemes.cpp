@@ -103,7 +103,8 @@ struct CellLayout {
 CellLayout cell_layout(const Domain& d, const ParticleSet& p, int cells, int nq) {
   CellLayout c;
   const double lx = d.upper[0] - d.lower[0], ly = d.upper[1] - d.lower[1];
-  if (cells == 0 && p.placement == Placement::boundary && is_lattice(p)) {
+  // Hexagonal lattices have parallelogram quads: they get a background grid.
+  if (cells == 0 && p.placement == Placement::boundary && is_lattice(p) && !p.hexagonal) {
     c.quads = true;
     c.cx = p.lattice[0] - 1;
     c.cy = p.lattice[1] - 1;
