@@ -29,11 +29,13 @@ using MaterialRegistry = Registry<Material>;
 
 void register_svk(MaterialRegistry&);
 void register_plastic_1d(MaterialRegistry&);
+void register_hyperelastic(MaterialRegistry&);
 
 /// Registers every material: add one line here for a new one.
 inline void register_all_materials(MaterialRegistry& r) {
   register_svk(r);
   register_plastic_1d(r);
+  register_hyperelastic(r);
 }
 
 }  // namespace mfv
