@@ -43,6 +43,7 @@ struct Discretization {
   /// particles): essential conditions fix them directly, tractions act on the particles of
   /// the loaded side, and the method's own values at a particle are its unknowns.
   bool particle_values = false;
+  int enriched_unknowns = 0;  ///< unknowns after the particles' (xefg enrichment dofs)
   Domain domain;
   std::shared_ptr<const IntegrationScheme> integration;  ///< for boundary rules
 
