@@ -285,8 +285,11 @@ ThresholdCurve stress_threshold(const BlochRow& unstressed, const BlochRow& stre
   const int grid = 200;
   for (int i = 1; i < points; ++i) {
     const double k = kmax * i / (points - 1);
+    // ω²/κ² (normalized): the same zero set as ω², with a tolerance that does not shrink
+    // at long waves.
+    const double kn2 = (k / unit) * (k / unit);
     auto h = [&](double sigma) {
-      return lowest(BlochRow::combine(unstressed, stressed, sigma), k, dir, scale);
+      return lowest(BlochRow::combine(unstressed, stressed, sigma), k, dir, scale) / kn2;
     };
     auto edge = [&](double sign) {
       if (h(0) < -kZero) return std::numeric_limits<double>::quiet_NaN();

@@ -1,1 +1,381 @@
-// placeholder: filled in by issue #5 work
+// The dispersion analysis of any method (stability/dispersion.hpp) against the findings of
+// 000 §3–4, the closed form of eq 3.18 for a method defined here (so a method added in a
+// test is analysed like a registered one), and every registered method's long-wave limit.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "methods/core/errors.hpp"
+#include "stability/dispersion.hpp"
+#include "test_support.hpp"
+#include "verify/runner.hpp"
+
+namespace mfv {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The 1D method 000 eq 3.16 linearizes: Shepard test functions and corrected derivatives
+/// whose normalization Σ W and correction factor a stay at their values on the uniform
+/// lattice when particles move, w_I(x) = W(|x − x_I|/h)/S₀, G_I = a₀ w_{I,x}, nodal rule.
+class FrozenShepard final : public Method {
+ public:
+  FrozenShepard(std::shared_ptr<const Kernel> kernel, double dmx) : kernel_(std::move(kernel)), dmx_(dmx) {}
+
+  Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
+    if (particles.dim != 1) throw InputError("frozen-shepard is 1D only");
+    Discretization d;
+    d.domain = domain;
+    d.particles = std::move(particles);
+    const int n = d.particles.size();
+    d.particles.dilation = Eigen::VectorXd::Constant(n, dmx_ * d.particles.spacing);
+    d.quadrature.points = d.particles.x;
+    d.quadrature.weights = d.particles.volume;
+    d.quadrature.nodal_points = n;
+    d.quadrature.kind = "nodal";
+    for (int q = 0; q < n; ++q) d.quadrature.cell.push_back(q);
+    d.form = Form::petrov_galerkin;
+    d.particle_values = true;
+    d.description = fmt::format("frozen Shepard, quartic spline, D_mx = {}", dmx_);
+    // S₀ and a₀ of the uniform lattice (000 eq 2.20 with the interior sums).
+    const double h = dmx_ * d.particles.spacing;
+    s0_ = 0;
+    double m = 0;
+    for (int j = -10; j <= 10; ++j) {
+      const double r = std::abs(j) * d.particles.spacing / h;
+      if (r >= 1) continue;
+      double w, dw, d2w;
+      kernel_->evaluate({&r, 1}, {&w, 1}, {&dw, 1}, {&d2w, 1});
+      s0_ += w;
+      // w_{J,x}(0) X_J with X_J = j Δx: the kernel slope seen from the origin.
+      m += -(j > 0 ? 1 : j < 0 ? -1 : 0) * dw / h * j * d.particles.spacing;
+    }
+    a0_ = s0_ / m;
+    retabulate(d, order);
+    return d;
+  }
+
+  void retabulate(Discretization& d, int) const override {
+    const double h = dmx_ * d.particles.spacing;
+    const int n = d.particles.size(), nq = d.quadrature.size();
+    ShapeTable test, trial;
+    test.dim = trial.dim = 1;
+    test.order = trial.order = 1;
+    for (int q = 0; q < nq; ++q) {
+      const double xq = d.quadrature.points(0, q);
+      for (int J = 0; J < n; ++J) {
+        const double r = xq - d.particles.x(0, J), s = std::abs(r) / h;
+        if (s >= 1) continue;
+        double w, dw, d2w;
+        kernel_->evaluate({&s, 1}, {&w, 1}, {&dw, 1}, {&d2w, 1});
+        const double wx = (r > 0 ? 1 : r < 0 ? -1 : 0) * dw / h / s0_;
+        test.index.push_back(J);
+        test.value.push_back(w / s0_);
+        test.grad.push_back(wx);
+        trial.index.push_back(J);
+        trial.value.push_back(w / s0_);
+        trial.grad.push_back(a0_ * wx);
+      }
+      test.offsets.push_back(test.entries());
+      trial.offsets.push_back(trial.entries());
+    }
+    d.test_q = std::move(test);
+    d.trial_q = std::move(trial);
+  }
+
+  double s0() const { return s0_; }
+  double a0() const { return a0_; }
+
+ private:
+  std::shared_ptr<const Kernel> kernel_;
+  double dmx_;
+  mutable double s0_ = 1, a0_ = 1;
+};
+
+void register_frozen_shepard(MethodRegistry& r, const MethodParts& parts) {
+  r.add("frozen-shepard", "test-only: 000's corrected-derivative method with frozen normalization",
+        {ParamSpec::positive("dmax", 1.5, "support radius over spacing")},
+        [parts](const Params& p) -> std::unique_ptr<Method> {
+          return std::make_unique<FrozenShepard>(parts.kernels.create("quartic-spline"),
+                                                 p.number("dmax"));
+        });
+}
+
+const Catalogue& catalogue() {
+  static const Catalogue c(Extensions{{register_wendland}, {}, {register_frozen_shepard}, {}});
+  return c;
+}
+
+DispersionSetup line_setup(double sigma, KernelFrame frame) {
+  DispersionSetup s;
+  s.lattice = LatticeKind::line;
+  s.frame = frame;
+  Params m;
+  m.set("E", 1.0);
+  s.material = catalogue().materials.create("svk", m);
+  s.prestress = Eigen::MatrixXd::Constant(1, 1, sigma);
+  return s;
+}
+
+BlochRow row_of(const std::string& method, const std::string& params, const DispersionSetup& s) {
+  const auto m = catalogue().methods.create(method, Params::parse(params));
+  return bloch_row(*m, s);
+}
+
+double omega2_at(const BlochRow& row, double kappa_over_pi) {
+  Eigen::VectorXd k(row.dim);
+  k.setZero();
+  k[0] = kappa_over_pi * kPi / row.spacing;
+  return row.omega2(k)[0];
+}
+
+/// 000 eq 3.18 (E = 1, ρ = 1, Δx = 1) for the quartic spline with h = D_mx Δx: a C̄' S² −
+/// σ (Σ w_xx (1 − cos κj) − a S²), S = Σ w_x(j) sin κj, C̄' = E + σ.
+double eq_3_18(double dmx, double sigma, double kappa) {
+  const double h = dmx;
+  double s0 = 0, m = 0, S = 0, T = 0;
+  auto W = [](double s, double& w, double& dw, double& d2w) {
+    w = 1 - 6 * s * s + 8 * s * s * s - 3 * s * s * s * s;
+    dw = -12 * s + 24 * s * s - 12 * s * s * s;
+    d2w = -12 + 48 * s - 36 * s * s;
+  };
+  for (int j = -10; j <= 10; ++j) {
+    const double s = std::abs(j) / h;
+    if (s >= 1) continue;
+    double w, dw, d2w;
+    W(s, w, dw, d2w);
+    s0 += w;
+  }
+  for (int j = -10; j <= 10; ++j) {
+    const double s = std::abs(j) / h;
+    if (s >= 1) continue;
+    double w, dw, d2w;
+    W(s, w, dw, d2w);
+    const double wx = (j > 0 ? 1 : j < 0 ? -1 : 0) * dw / h / s0;  // w_{0,x}(j)
+    m += -wx * j;                                                   // Σ w_{J,x}(0) X_J
+    S += wx * std::sin(kappa * j);
+    T += d2w / (h * h) / s0 * (1 - std::cos(kappa * j));
+  }
+  const double a = 1 / m;
+  return a * (1 + sigma) * S * S - sigma * (T - a * S * S);
+}
+
+TEST(Dispersion, LagrangianNodalHasAZeroAtTheCutoffWhateverTheStress) {
+  for (double sigma : {-0.5, 0.0, 0.5, 2.0}) {
+    const BlochRow row = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                                line_setup(sigma, KernelFrame::lagrangian));
+    EXPECT_NEAR(omega2_at(row, 1.0), 0.0, 1e-8) << "σ̄ = " << sigma;
+    EXPECT_GT(omega2_at(row, 0.5), 0.0) << "σ̄ = " << sigma;
+    const StabilityVerdict v = stability_verdict(row, {0.0}, 101, 1, 1, sigma > 0);
+    EXPECT_TRUE(v.spurious);
+    EXPECT_NEAR(v.spurious_kappa, 1.0, 1e-12);
+    EXPECT_FALSE(v.unstable) << v.text;
+  }
+}
+
+TEST(Dispersion, LagrangianKernelUnstableExactlyWhenTheTangentModulusIsNegative) {
+  // C̄ = E + σ: 000 eq 3.12 scales the whole relation by C̄, as the continuum does.
+  for (double sigma : {-1.05, -0.95}) {
+    const BlochRow row = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                                line_setup(sigma, KernelFrame::lagrangian));
+    const StabilityVerdict v = stability_verdict(row, {0.0}, 101, 1, 1, false);
+    EXPECT_EQ(v.unstable, sigma < -1) << "σ̄ = " << sigma << ": " << v.text;
+  }
+  // The same with stress points (no spurious zero there): the map's lower bound is −1.
+  const auto si = [](double s) {
+    return row_of("kbm-si", "kernel=quartic-spline,dmax=1.5", line_setup(s, KernelFrame::lagrangian));
+  };
+  const ThresholdCurve t = stress_threshold(si(0), si(1), 0, 21, 3, 1, 1);
+  for (std::size_t i = 0; i < t.kappa.size(); ++i) {
+    EXPECT_NEAR(t.lower[i], -1.0, 1e-6) << "κ = " << t.kappa[i];
+    EXPECT_TRUE(std::isnan(t.upper[i])) << "κ = " << t.kappa[i];
+  }
+}
+
+TEST(Dispersion, LagrangianNodalMatchesItsAffineFormInTheStress) {
+  // 000 eq 3.12: ω² = (E + σ)·g(κ) for the Lagrangian kernel, so ω²(σ)/ω²(0) = 1 + σ.
+  const BlochRow zero = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                               line_setup(0, KernelFrame::lagrangian));
+  const BlochRow half = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                               line_setup(0.5, KernelFrame::lagrangian));
+  for (double k : {0.1, 0.3, 0.6, 0.9})
+    EXPECT_NEAR(omega2_at(half, k) / omega2_at(zero, k), 1.5, 1e-7) << "κ = " << k;
+}
+
+TEST(Dispersion, KbmNodalLagrangianMatchesEq312ToRoundOff) {
+  // 000 eq 3.12: ω² = a C̄ [Σ w_x sin κj]²/ρ with C̄ = E + σ; eq 3.18 at σ = 0 is the same sum.
+  for (double dmx : {1.5, 2.5})
+    for (double sigma : {0.0, 0.5, -0.5}) {
+      const BlochRow row = row_of("kbm-ni", fmt::format("kernel=quartic-spline,dmax={}", dmx),
+                                  line_setup(sigma, KernelFrame::lagrangian));
+      for (double k : {0.02, 0.3, 0.6, 0.9}) {
+        const double closed = (1 + sigma) * eq_3_18(dmx, 0, k * kPi);
+        EXPECT_NEAR(omega2_at(row, k), closed, 1e-8 * (1 + std::abs(closed)))
+            << "D_mx " << dmx << " σ̄ " << sigma << " κ " << k;
+      }
+    }
+}
+
+TEST(Dispersion, AMethodAddedInATestMatchesEq318ToRoundOff) {
+  // With the normalization and correction frozen, the engine's Eulerian linearization is
+  // exactly 000 eq 3.16, so the generic analysis must give eq 3.18.
+  for (double dmx : {1.5, 2.5})
+    for (double sigma : {0.0, 0.5, 1.0, -0.5}) {
+      const BlochRow row = row_of("frozen-shepard", fmt::format("dmax={}", dmx),
+                                  line_setup(sigma, KernelFrame::eulerian));
+      for (double k : {0.1, 0.35, 0.6, 0.85, 1.0}) {
+        const double closed = eq_3_18(dmx, sigma, k * kPi);
+        EXPECT_NEAR(omega2_at(row, k), closed, 1e-8 * (1 + std::abs(closed)))
+            << "D_mx " << dmx << " σ̄ " << sigma << " κ " << k;
+      }
+    }
+}
+
+TEST(Dispersion, EulerianKernelIsTensileUnstableAndTheOnsetFallsWithStress) {
+  double last = 2;
+  for (double sigma : {0.5, 1.0, 2.0}) {
+    const BlochRow row = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                                line_setup(sigma, KernelFrame::eulerian));
+    const StabilityVerdict v = stability_verdict(row, {0.0}, 201, 1, 1, true);
+    ASSERT_TRUE(v.unstable) << "σ̄ = " << sigma;
+    EXPECT_LT(v.onset, last) << "σ̄ = " << sigma;
+    last = v.onset;
+    RecordProperty(fmt::format("onset_sigma_{}", sigma), fmt::format("{:.4f}", v.onset));
+  }
+  // No stress, no tensile instability: the Eulerian kernel is then stable but for the zero.
+  const BlochRow free = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                               line_setup(0, KernelFrame::eulerian));
+  EXPECT_FALSE(stability_verdict(free, {0.0}, 101, 1, 1, false).unstable);
+}
+
+TEST(Dispersion, OneDimensionalStressPointsLiftTheCutoffFrequency) {
+  auto cutoff = [](const std::string& kernel, double dmx) {
+    const BlochRow row = row_of("kbm-si", fmt::format("kernel={},dmax={}", kernel, dmx),
+                                line_setup(0, KernelFrame::lagrangian));
+    return std::sqrt(omega2_at(row, 1.0)) / kPi;
+  };
+  const double q15 = cutoff("quartic-spline", 1.5), q20 = cutoff("quartic-spline", 2.0),
+               q25 = cutoff("quartic-spline", 2.5);
+  EXPECT_GT(q25, 1e-3);
+  EXPECT_GT(q15, q20);
+  EXPECT_GT(q20, q25);
+  EXPECT_GT(cutoff("exponential", 1.5), q15);
+  EXPECT_GT(cutoff("exponential", 2.5), q25);
+}
+
+DispersionSetup plane_setup(LatticeKind lattice, double sigma, KernelFrame frame) {
+  DispersionSetup s;
+  s.lattice = lattice;
+  s.frame = frame;
+  Params m;
+  m.set("E", 1.0);
+  m.set("nu", 0.25);
+  s.material = catalogue().materials.create("svk", m);
+  s.prestress = sigma * 0.4 * Eigen::MatrixXd::Identity(2, 2);  // σ̄ = σ/μ, μ = 0.4
+  return s;
+}
+
+TEST(Dispersion, QuadCentreStressPointsLeaveTheDiagonalModeAndTriangleCentresRemoveIt) {
+  const double diag = kPi / 4;
+  auto verdict = [&](const std::string& layout) {
+    const BlochRow row = row_of("kbm-si", "kernel=quartic-spline,dmax=1.5,layout=" + layout,
+                                plane_setup(LatticeKind::rectangular, 0, KernelFrame::lagrangian));
+    return stability_verdict(row, {0.0, kPi / 8, diag}, 41, 0.4, 1, false);
+  };
+  const StabilityVerdict quad = verdict("quad-centres"), tri = verdict("triangle-centres");
+  EXPECT_TRUE(quad.spurious) << quad.text;
+  EXPECT_NEAR(quad.spurious_theta, 45, 1e-9);
+  EXPECT_NEAR(quad.spurious_kappa, std::sqrt(2.0), 1e-9);
+  EXPECT_FALSE(tri.spurious) << tri.text;
+  EXPECT_FALSE(tri.unstable) << tri.text;
+}
+
+TEST(Dispersion, NodalIntegrationOnBothLatticesHasASpuriousMode) {
+  for (LatticeKind lattice : {LatticeKind::rectangular, LatticeKind::hexagonal}) {
+    const BlochRow row = row_of("kbm-ni", "kernel=quartic-spline,dmax=1.5",
+                                plane_setup(lattice, 1, KernelFrame::lagrangian));
+    const StabilityVerdict v = stability_verdict(row, {0.0, kPi / 6, kPi / 4}, 41, 0.4, 1, true);
+    EXPECT_TRUE(v.spurious) << to_string(lattice) << ": " << v.text;
+    EXPECT_FALSE(v.unstable) << to_string(lattice) << ": " << v.text;
+  }
+}
+
+TEST(Dispersion, EulerianStressPointsStayTensileUnstableIn2D) {
+  const BlochRow row = row_of("kbm-si", "kernel=quartic-spline,dmax=1.5",
+                              plane_setup(LatticeKind::rectangular, 2, KernelFrame::eulerian));
+  const StabilityVerdict v = stability_verdict(row, {0.0, kPi / 6, kPi / 4}, 41, 0.4, 1, true);
+  EXPECT_TRUE(v.unstable) << v.text;
+  EXPECT_NE(v.text.find("tensile-unstable"), std::string::npos);
+}
+
+TEST(Dispersion, TheRowDoesNotDependOnThePatchBeyondTheSupports) {
+  DispersionSetup s = line_setup(0.3, KernelFrame::eulerian);
+  const BlochRow automatic = row_of("kbm-si", "kernel=quartic-spline,dmax=2", s);
+  s.half_width = automatic.half_width + 6;
+  const BlochRow wider = row_of("kbm-si", "kernel=quartic-spline,dmax=2", s);
+  for (double k : {0.2, 0.7, 1.0})
+    EXPECT_NEAR(omega2_at(automatic, k), omega2_at(wider, k), 1e-9);
+  s.half_width = 2;
+  EXPECT_THROW(row_of("kbm-si", "kernel=quartic-spline,dmax=2", s), InputError);
+}
+
+TEST(Dispersion, BadInputIsRefusedWithTheFix) {
+  CaseSpec spec;
+  spec.problem = "dispersion";
+  spec.method = "kbm-ni";
+  spec.nodes = 1;
+  for (const char* bad : {"lattice=square", "angles=0:x", "points=2", "lattice=line,angles=0:45"}) {
+    spec.problem_params = Params::parse(bad);
+    EXPECT_THROW(run_case(catalogue(), spec), InputError) << bad;
+  }
+  spec.method = "sph";
+  spec.problem_params = Params::parse("mass=consistent");
+  EXPECT_THROW(run_case(catalogue(), spec), InputError);
+}
+
+TEST(Dispersion, TheProblemRunsAMethodAddedInATestByName) {
+  CaseSpec spec;
+  spec.problem = "dispersion";
+  spec.method = "frozen-shepard";
+  spec.problem_params = Params::parse("frame=eulerian,sigma=1");
+  spec.nodes = 1;
+  const CaseResult r = run_case(catalogue(), spec);
+  EXPECT_EQ(r.headline.at("unstable"), 1);
+  ASSERT_FALSE(r.analysis.verdicts.empty());
+  EXPECT_NE(r.analysis.verdicts.front().find("tensile-unstable above"), std::string::npos);
+  ASSERT_FALSE(r.analysis.curves.empty());
+  EXPECT_EQ(r.analysis.curves.front().x.size(), 101u);
+}
+
+/// Every registered method that runs on a line: without stress it is not unstable, and its
+/// long waves travel at the continuum speed (ω/κ → c).
+class EveryMethod : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EveryMethod, LongWavesTravelAtTheContinuumSpeedAndNothingGrows) {
+  const auto m = catalogue().methods.create(GetParam(), Params{});
+  BlochRow row;
+  try {
+    row = bloch_row(*m, line_setup(0, KernelFrame::lagrangian));
+  } catch (const InputError& e) {
+    GTEST_SKIP() << GetParam() << " does not run on a line: " << e.what();
+  }
+  const double k = 0.02;
+  // Uncorrected sums (SPH) and 000's correction factor a (ω² ∝ 1/a at long waves) move
+  // the speed by a few per cent.
+  EXPECT_NEAR(omega2_at(row, k) / (k * kPi * k * kPi), 1.0, 0.05) << GetParam();
+  const StabilityVerdict v = stability_verdict(row, {0.0}, 61, 1, 1, false);
+  EXPECT_FALSE(v.unstable) << GetParam() << ": " << v.text;
+}
+
+INSTANTIATE_TEST_SUITE_P(Dispersion, EveryMethod,
+                         ::testing::ValuesIn(catalogue().methods.keys()),
+                         [](const auto& info) {
+                           std::string s = info.param;
+                           for (char& c : s)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return s;
+                         });
+
+}  // namespace
+}  // namespace mfv

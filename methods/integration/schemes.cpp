@@ -314,30 +314,18 @@ class StressPointIntegration final : public IntegrationScheme {
     check_dimension(d, p);
     IntegrationRule r;
     r.kind = "stress-points";
-    if (p.dim == 2) {
-      // 001 eqs 64-65: the particles, then the stress points, each weighted by its cell of
-      // the joint Voronoi diagram; `cell` is the particle, then the stress point's index.
-      const StressPoints s = make_stress_points(p, d, layout_);
-      const int n = p.size(), ns = static_cast<int>(s.x.cols());
-      r.points.resize(2, n + ns);
-      r.points << p.x, s.x;
-      r.weights.resize(n + ns);
-      r.weights << s.particle_volume, s.volume;
-      r.cells = ns;
-      r.nodal_points = n;
-      for (int q = 0; q < n + ns; ++q) r.cell.push_back(q < n ? q : q - n);
-      return r;
-    }
-    // 1D: one stress point at each interval midpoint, weighted by the interval (000 §2.4).
-    const auto e = cell_edges(d, p, 0);
-    r.cells = static_cast<int>(e.size()) - 1;
-    r.points.resize(1, r.cells);
-    r.weights.resize(r.cells);
-    for (int c = 0; c < r.cells; ++c) {
-      r.points(0, c) = 0.5 * (e[c] + e[c + 1]);
-      r.weights[c] = e[c + 1] - e[c];
-      r.cell.push_back(c);
-    }
+    // 001 eqs 64-65, 000 eq 3.19: the particles, then the stress points (1D: the interval
+    // midpoints), each weighted by its cell of the joint Voronoi diagram; `cell` is the
+    // particle, then the stress point's index.
+    const StressPoints s = make_stress_points(p, d, layout_);
+    const int n = p.size(), ns = static_cast<int>(s.x.cols());
+    r.points.resize(p.dim, n + ns);
+    r.points << p.x, s.x;
+    r.weights.resize(n + ns);
+    r.weights << s.particle_volume, s.volume;
+    r.cells = ns;
+    r.nodal_points = n;
+    for (int q = 0; q < n + ns; ++q) r.cell.push_back(q < n ? q : q - n);
     return r;
   }
 
@@ -428,7 +416,7 @@ void register_gauss_cells(IntegrationRegistry& r) {
 void register_stress_points(IntegrationRegistry& r) {
   r.add("stress-points",
         "the particles plus stress points, weights from their joint Voronoi diagram (000 §2.4, "
-        "001 §5.2 eqs 64-65; 1D: interval midpoints)",
+        "001 §5.2 eqs 64-65; 1D: the particles and the interval midpoints, 000 eq 3.19)",
         {ParamSpec::choice("layout", "quad-centres", {"quad-centres", "triangle-centres"},
                            "2D: stress points at lattice quadrilateral or triangle centres "
                            "(000 Fig. 8)")},
