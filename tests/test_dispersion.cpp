@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "methods/core/errors.hpp"
+#include "stability/closed_forms.hpp"
 #include "stability/dispersion.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
@@ -115,6 +116,18 @@ DispersionSetup line_setup(double sigma, KernelFrame frame) {
   m.set("E", 1.0);
   s.material = catalogue().materials.create("svk", m);
   s.prestress = Eigen::MatrixXd::Constant(1, 1, sigma);
+  return s;
+}
+
+DispersionSetup plane_setup(LatticeKind lattice, double sigma, KernelFrame frame) {
+  DispersionSetup s;
+  s.lattice = lattice;
+  s.frame = frame;
+  Params m;
+  m.set("E", 1.0);
+  m.set("nu", 0.25);
+  s.material = catalogue().materials.create("svk", m);
+  s.prestress = sigma * 0.4 * Eigen::MatrixXd::Identity(2, 2);  // σ̄ = σ/μ, μ = 0.4
   return s;
 }
 
@@ -232,6 +245,59 @@ TEST(Dispersion, AMethodAddedInATestMatchesEq318ToRoundOff) {
     }
 }
 
+TEST(Dispersion, AgreesWithTheClosedFormsOf000) {
+  const auto W = catalogue().kernels.create("quartic-spline");
+  // 1D: eqs 3.12 (nodal) and 3.23 (stress points), Lagrangian kernel, C̄ = E + σ.
+  for (double dmx : {1.5, 2.0, 2.5})
+    for (double sigma : {0.0, 0.4}) {
+      const BlochRow ni = row_of("kbm-ni", fmt::format("kernel=quartic-spline,dmax={}", dmx),
+                                 line_setup(sigma, KernelFrame::lagrangian));
+      const BlochRow si = row_of("kbm-si", fmt::format("kernel=quartic-spline,dmax={}", dmx),
+                                 line_setup(sigma, KernelFrame::lagrangian));
+      for (double k : {0.1, 0.5, 0.8, 1.0}) {
+        const double c312 = closed_form::omega2_lagrangian_nodal_1d(*W, dmx, 1, k * kPi, 1 + sigma, 1);
+        const double c323 =
+            closed_form::omega2_lagrangian_stress_points_1d(*W, dmx, 1, k * kPi, 1 + sigma, 1);
+        EXPECT_NEAR(omega2_at(ni, k), c312, 1e-8 * (1 + c312)) << "3.12 D_mx " << dmx << " κ " << k;
+        EXPECT_NEAR(omega2_at(si, k), c323, 1e-8 * (1 + c323)) << "3.23 D_mx " << dmx << " κ " << k;
+      }
+    }
+  // 2D, Lagrangian kernel: the dynamical matrix behind eqs 4.6 (nodal) and 4.20 (stress
+  // points at quad centres of the square lattice, triangle centres of the hexagonal one).
+  struct Case {
+    LatticeKind lattice;
+    closed_form::Lattice2D closed;
+    std::string method;
+  };
+  for (const Case& c : {Case{LatticeKind::rectangular, closed_form::Lattice2D::rectangular, "kbm-ni"},
+                        Case{LatticeKind::hexagonal, closed_form::Lattice2D::hexagonal, "kbm-ni"},
+                        Case{LatticeKind::rectangular, closed_form::Lattice2D::rectangular, "kbm-si"},
+                        Case{LatticeKind::hexagonal, closed_form::Lattice2D::hexagonal,
+                             "kbm-si:layout=triangle-centres"}}) {
+    const auto colon = c.method.find(':');
+    const std::string name = c.method.substr(0, colon);
+    const std::string extra = colon == std::string::npos ? "" : "," + c.method.substr(colon + 1);
+    const BlochRow row = row_of(name, "kernel=quartic-spline,dmax=1.5" + extra,
+                                plane_setup(c.lattice, 0.5, KernelFrame::lagrangian));
+    closed_form::Setup2D s;
+    s.lattice = c.closed;
+    s.stress_points = name == "kbm-si";
+    s.dmx = 1.5;
+    s.mu = 0.4;
+    s.lambda = 0.4;
+    s.stress = 0.5 * 0.4 * Eigen::Matrix2d::Identity();
+    for (double theta : {0.0, kPi / 6, kPi / 4})
+      for (double k : {0.3, 0.7, 1.0}) {
+        const std::array<double, 2> closed = closed_form::omega2_2d(*W, s, k * kPi, theta);
+        Eigen::Vector2d kv(std::cos(theta), std::sin(theta));
+        const std::vector<double> ours = row.omega2(k * kPi * kv);
+        for (int b = 0; b < 2; ++b)
+          EXPECT_NEAR(ours[b], closed[b], 1e-7 * (1 + std::abs(closed[b])))
+              << c.method << " " << to_string(c.lattice) << " θ " << theta << " κ " << k;
+      }
+  }
+}
+
 TEST(Dispersion, EulerianKernelIsTensileUnstableAndTheOnsetFallsWithStress) {
   double last = 2;
   for (double sigma : {0.5, 1.0, 2.0}) {
@@ -264,17 +330,6 @@ TEST(Dispersion, OneDimensionalStressPointsLiftTheCutoffFrequency) {
   EXPECT_GT(cutoff("exponential", 2.5), q25);
 }
 
-DispersionSetup plane_setup(LatticeKind lattice, double sigma, KernelFrame frame) {
-  DispersionSetup s;
-  s.lattice = lattice;
-  s.frame = frame;
-  Params m;
-  m.set("E", 1.0);
-  m.set("nu", 0.25);
-  s.material = catalogue().materials.create("svk", m);
-  s.prestress = sigma * 0.4 * Eigen::MatrixXd::Identity(2, 2);  // σ̄ = σ/μ, μ = 0.4
-  return s;
-}
 
 TEST(Dispersion, QuadCentreStressPointsLeaveTheDiagonalModeAndTriangleCentresRemoveIt) {
   const double diag = kPi / 4;
