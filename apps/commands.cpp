@@ -113,6 +113,51 @@ void command_list(const Catalogue& c, std::ostream& out) {
   list_registry(c.problems, out);
 }
 
+void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
+  const double wall0 = wall_seconds(), cpu0 = cpu_seconds();
+  CaseSpec spec;
+  spec.problem = o.problem;
+  spec.method = o.method;
+  spec.method_params = Params::parse(o.method_params);
+  spec.problem_params = Params::parse(o.problem_params);
+  const auto problem = c.problems.create(spec.problem, spec.problem_params);
+  if (!problem->analysis()) {
+    std::vector<std::string> analyses;
+    for (const auto& name : c.problems.keys())
+      if (c.problems.create(name, {})->analysis()) analyses.push_back(name);
+    throw InputError(fmt::format("'{}' is not an analysis problem; analyses: {} (use `mfv run` or "
+                                 "`mfv study` for the others)",
+                                 spec.problem, fmt::join(analyses, ", ")));
+  }
+  spec.nodes = o.nodes > 0 ? o.nodes : problem->resolutions(Level::standard).front();
+  StudyResult study;
+  study.label = study_label(spec);
+  study.cases.push_back(run_case(c, spec));
+  const CaseResult& r = study.cases.back();
+  out << fmt::format("analysis  {} {}\n", spec.problem, spec.problem_params.to_string());
+  out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
+  out << fmt::format("setup     {}\n", r.analysis.setup);
+  for (const auto& v : r.analysis.verdicts) out << fmt::format("verdict   {}\n", v);
+  for (const auto& [k, v] : r.headline) out << fmt::format("  {:<40} {:.6g}\n", k, v);
+  for (const auto& p : compare_published(*problem, study.cases.empty() ? std::vector<StudyResult>{}
+                                                                         : std::vector<StudyResult>{study}))
+    if (!p.study.empty())
+      out << fmt::format("published {} {} = {:.6g} ({}); ours {:.6g}\n", p.published.source,
+                         p.published.quantity, p.published.value, p.published.note, p.ours);
+  out << fmt::format("CPU       {:.3f} s\n", r.cpu.total());
+  if (o.no_report) return;
+  const std::filesystem::path dir =
+      o.report.empty() ? std::filesystem::path("reports") / slug(spec.problem + "-" + spec.method)
+                       : std::filesystem::path(o.report);
+  std::vector<ReportSection> sections;
+  add_to_sections(sections, std::move(study));
+  write_report(c, dir,
+               fmt::format("# mfv analysis: {} with {}\n\n{}\n\n", spec.problem, spec.method,
+                           machine_line(wall_seconds() - wall0, cpu_seconds() - cpu0)),
+               sections, false);
+  out << fmt::format("report    {}\n", (dir / "index.md").string());
+}
+
 void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   CaseSpec spec;
   spec.problem = o.problem;

@@ -37,6 +37,17 @@ struct CompareOptions {
 int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& out,
                     std::ostream& progress);
 
+struct AnalyseOptions {
+  std::string problem, method, method_params, problem_params;
+  int nodes = 0;       ///< 0: the problem's first standard resolution
+  std::string report;  ///< report directory; empty: reports/<problem>-<method>
+  bool no_report = false;
+};
+/// `mfv analyse` and `mfv dispersion`: one analysis case (dispersion, time-step, enriched-bar,
+/// stretch-map) of any method by name; prints the set-up, verdicts and measured values with
+/// the published ones, and writes a report with the plots and CSV data.
+void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out);
+
 /// "rkpm:kernel=gaussian,j=1" → method name and parameters; throws InputError if malformed.
 std::pair<std::string, std::string> split_method_spec(const std::string& spec);
 

@@ -1,7 +1,9 @@
 /// mfv: meshfree verification suite command line (CLI11).
+#include <algorithm>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "apps/commands.hpp"
 #include "methods/core/errors.hpp"
@@ -51,6 +53,40 @@ int main(int argc, char** argv) {
                    "method, repeatable: name or name:key=value,... (e.g. rkpm:j=1)")
       ->required();
 
+  mfv::AnalyseOptions ana;
+  auto* cmd_analyse = app.add_subcommand(
+      "analyse", "one stability or time-step analysis of any method: verdict, plots, CSV");
+  cmd_analyse->add_option("problem", ana.problem,
+                          "analysis problem: dispersion, time-step, enriched-bar, stretch-map")
+      ->required();
+  cmd_analyse->add_option("--method,-m", ana.method, "method name")->required();
+  cmd_analyse->add_option("--params,-p", ana.method_params, "method parameters key=value,...");
+  cmd_analyse->add_option("--problem-params", ana.problem_params, "problem parameters key=value,...");
+  cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)");
+  cmd_analyse->add_option("--report,-r", ana.report, "report directory (default reports/<problem>-<method>)");
+  cmd_analyse->add_flag("--no-report", ana.no_report, "print only");
+
+  // `dispersion` is `analyse dispersion` with the analysis parameters as named options.
+  mfv::AnalyseOptions dis;
+  std::string lattice = "line", frame = "lagrangian", angles, mass = "lumped", stress;
+  double sigma = 0;
+  int points = 0;
+  bool map = false;
+  auto* cmd_dispersion = app.add_subcommand(
+      "dispersion", "von Neumann dispersion of any method on a lattice: omega(kappa), verdict, plots");
+  cmd_dispersion->add_option("--method,-m", dis.method, "method name")->required();
+  cmd_dispersion->add_option("--params,-p", dis.method_params, "method parameters key=value,...");
+  cmd_dispersion->add_option("--lattice", lattice, "line, rectangular or hexagonal");
+  cmd_dispersion->add_option("--frame", frame, "lagrangian or eulerian kernel");
+  cmd_dispersion->add_option("--sigma", sigma, "prestress sigma/E (1D) or sigma/mu (2D)");
+  cmd_dispersion->add_option("--stress", stress, "2D prestress: biaxial or uniaxial");
+  cmd_dispersion->add_option("--angles", angles, "2D wave directions in degrees, e.g. 0,30,45");
+  cmd_dispersion->add_option("--points", points, "wave numbers per direction");
+  cmd_dispersion->add_option("--mass", mass, "lumped or consistent");
+  cmd_dispersion->add_flag("--map", map, "also the (sigma, kappa) stable domain");
+  cmd_dispersion->add_option("--report,-r", dis.report, "report directory");
+  cmd_dispersion->add_flag("--no-report", dis.no_report, "print only");
+
   mfv::VerifyOptions ver;
   auto* cmd_verify = app.add_subcommand(
       "verify", "run a suite manifest; exit 1 if a case leaves its band or worsens the baseline");
@@ -77,6 +113,19 @@ int main(int argc, char** argv) {
     const mfv::Catalogue catalogue;
     if (*list) mfv::command_list(catalogue, std::cout);
     if (*cmd_run) mfv::command_run(catalogue, run, std::cout);
+    if (*cmd_analyse) mfv::command_analyse(catalogue, ana, std::cout);
+    if (*cmd_dispersion) {
+      dis.problem = "dispersion";
+      std::string colon_angles = angles;
+      std::replace(colon_angles.begin(), colon_angles.end(), ',', ':');
+      dis.problem_params = fmt::format("lattice={},frame={},sigma={},mass={}", lattice, frame,
+                                       sigma, mass);
+      if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
+      if (!stress.empty()) dis.problem_params += ",stress=" + stress;
+      if (points > 0) dis.problem_params += fmt::format(",points={}", points);
+      if (map) dis.problem_params += ",map=sigma-kappa";
+      mfv::command_analyse(catalogue, dis, std::cout);
+    }
     if (*cmd_study) {
       cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};
       return mfv::command_compare(catalogue, cmp, std::cout, std::cerr);

@@ -62,8 +62,10 @@ void add_to_sections(std::vector<ReportSection>& sections, StudyResult study) {
   // Transient studies of one problem share a section whatever their loading, frame or
   // prestress: their findings compare across those parameters (Lagrangian vs Eulerian,
   // σ̄ sweeps), and each study's parameters are in its label and engine description.
+  // Analyses likewise: one section per problem, the parameters of each case in its row.
   const bool transient = study.cases.front().transient.steps > 0;
-  const Params key = transient ? Params{} : spec.problem_params;
+  const bool analysis = !study.cases.front().analysis.empty();
+  const Params key = transient || analysis ? Params{} : spec.problem_params;
   for (auto& s : sections) {
     if (s.problem == spec.problem && s.problem_params.to_string() == key.to_string()) {
       s.studies.push_back(std::move(study));
@@ -169,6 +171,7 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   const std::string title = section_title(section);
   if (problem->transient())
     return write_transient_section(catalogue, section, title, dir, vtk);
+  if (problem->analysis()) return write_analysis_section(catalogue, section, title, dir);
   if (!section.studies.empty() && !section.studies.front().cases.empty() &&
       section.studies.front().cases.front().components > 1)
     return write_elasticity_section(catalogue, section, title, dir, vtk);

@@ -50,6 +50,11 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
                                     const std::string& title, const std::filesystem::path& dir,
                                     bool vtk);
 
+/// The section of an analysis problem (dispersion, time steps, enriched bars, stable-domain
+/// maps): cases, findings, verdicts and headline values, figures as SVG, tables as CSV.
+std::string write_analysis_section(const Catalogue& catalogue, const ReportSection& section,
+                                   const std::string& title, const std::filesystem::path& dir);
+
 /// One VTK file per resolution: its name suffix ("-line.vtp") and its writer.
 using VtkPart = std::pair<std::string, std::function<void(const std::filesystem::path&,
                                                           const CaseResult&)>>;

@@ -1,0 +1,123 @@
+/// The report section of analysis problems (dispersion, critical time steps, enriched bars,
+/// stable-domain maps): what each case analysed, the findings, every verdict and headline
+/// value side by side, the problem's figures as SVG plots and its tables as CSV files.
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "reports/atomic.hpp"
+#include "reports/markdown.hpp"
+#include "reports/plot.hpp"
+#include "reports/study_report.hpp"
+
+namespace mfv {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string value_text(double v) {
+  if (std::isnan(v)) return "–";
+  if (v == 0) return "0";
+  return std::abs(v) < 1e-2 || std::abs(v) >= 1e5 ? fmt_sci(v, 3) : fmt::format("{:.4g}", v);
+}
+
+std::string csv_text(const AnalysisData::Table& t) {
+  std::string out = fmt::format("{}\n", fmt::join(t.columns, ","));
+  for (const auto& row : t.rows) {
+    std::vector<std::string> cells;
+    for (double v : row) cells.push_back(std::isnan(v) ? "nan" : fmt::format("{:.10g}", v));
+    out += fmt::format("{}\n", fmt::join(cells, ","));
+  }
+  return out;
+}
+
+/// "kbm-ni kernel=quartic-spline | frame=eulerian,sigma=1": what one analysis case is.
+std::string case_label(const StudyResult& s) {
+  const std::string pp = s.cases.front().spec.problem_params.to_string();
+  return pp.empty() ? s.label : s.label + " | " + pp;
+}
+
+}  // namespace
+
+std::string write_analysis_section(const Catalogue& catalogue, const ReportSection& section,
+                                   const std::string& title, const fs::path& dir) {
+  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const std::string base = slug(title);
+  std::string md = fmt::format("## {}\n\n{}\n\n", title,
+                               catalogue.problems.entry(section.problem).description);
+  md += "**Cases.**\n\n";
+  for (const auto& s : section.studies) {
+    const CaseResult& r = s.cases.back();
+    md += fmt::format("- `{}`: {}; {}\n", case_label(s), r.method_description, r.analysis.setup);
+  }
+  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
+  md += "\n";
+  md += findings_block(*problem, section.studies);
+
+  std::vector<std::string> keys;
+  for (const auto& s : section.studies)
+    for (const auto& [k, v] : s.cases.back().headline)
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+  md += "### Verdicts and measured values\n\nOne row per case; CPU seconds of the analysis "
+        "(set-up of the operator, then the scans).\n\n";
+  std::vector<std::string> header{"case", "verdict"};
+  std::vector<char> align{'l', 'l'};
+  for (const auto& k : keys) {
+    header.push_back(k);
+    align.push_back('r');
+  }
+  header.push_back("CPU s");
+  align.push_back('r');
+  MarkdownTable t(header, align);
+  for (const auto& s : section.studies) {
+    const CaseResult& r = s.cases.back();
+    std::vector<std::string> row{case_label(s), fmt::format("{}", fmt::join(r.analysis.verdicts, "; "))};
+    for (const auto& k : keys) {
+      const auto it = r.headline.find(k);
+      row.push_back(it == r.headline.end() ? "–" : value_text(it->second));
+    }
+    row.push_back(fmt::format("{:.3f}", r.cpu.total()));
+    t.add_row(row);
+  }
+  md += t.str() + "\n";
+
+  // Figures and data of every case.
+  md += "### Figures and data\n\n";
+  fs::create_directories(dir / "plots");
+  fs::create_directories(dir / "data");
+  for (const auto& s : section.studies) {
+    const CaseResult& r = s.cases.back();
+    if (r.analysis.figures.empty() && r.analysis.tables.empty()) continue;
+    const std::string stem = base + "-" + slug(case_label(s));
+    md += fmt::format("**`{}`**", case_label(s));
+    std::vector<std::string> links;
+    for (const auto& table : r.analysis.tables) {
+      const std::string name = fmt::format("data/{}-{}.csv", stem, table.name);
+      write_file_atomic(dir / name, csv_text(table));
+      links.push_back(fmt::format("[{}.csv]({})", table.name, name));
+    }
+    if (!links.empty()) md += fmt::format(" (data: {})", fmt::join(links, ", "));
+    md += "\n\n";
+    for (const auto& fig : r.analysis.figures) {
+      PlotSpec spec;
+      spec.title = fmt::format("{}: {}", case_label(s), fig.title);
+      spec.xlabel = fig.xlabel;
+      spec.ylabel = fig.ylabel;
+      spec.logy = fig.logy;
+      spec.style = fig.style;
+      for (const auto& c : r.analysis.curves)
+        if (c.figure == fig.id) spec.series.push_back(Series{c.label, c.x, c.y});
+      const std::string name = fmt::format("plots/{}-{}.svg", stem, fig.id);
+      if (const auto why = write_svg_plot(dir / name, spec))
+        md += fmt::format("_{} plot not drawn: {}._\n\n", fig.id, *why);
+      else
+        md += fmt::format("![{}]({})\n\n", fig.title, name);
+    }
+  }
+  md += published_block(*problem, section.studies);
+  return md;
+}
+
+}  // namespace mfv
