@@ -139,11 +139,14 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   out << fmt::format("setup     {}\n", r.analysis.setup);
   for (const auto& v : r.analysis.verdicts) out << fmt::format("verdict   {}\n", v);
   for (const auto& [k, v] : r.headline) out << fmt::format("  {:<40} {:.6g}\n", k, v);
-  for (const auto& p : compare_published(*problem, study.cases.empty() ? std::vector<StudyResult>{}
-                                                                         : std::vector<StudyResult>{study}))
-    if (!p.study.empty())
-      out << fmt::format("published {} {} = {:.6g} ({}); ours {:.6g}\n", p.published.source,
-                         p.published.quantity, p.published.value, p.published.note, p.ours);
+  std::set<std::string> printed;
+  for (const auto& p : compare_published(*problem, {study})) {
+    if (p.study.empty() || std::isnan(p.ours)) continue;
+    const std::string line =
+        fmt::format("published {} {} = {:.6g} ({}); ours {:.6g}\n", p.published.source,
+                    p.published.quantity, p.published.value, p.published.note, p.ours);
+    if (printed.insert(line).second) out << line;
+  }
   out << fmt::format("CPU       {:.3f} s\n", r.cpu.total());
   if (o.no_report) return;
   const std::filesystem::path dir =

@@ -56,14 +56,12 @@ class Dispersion final : public Problem {
         biaxial_(p.text("stress") == "biaxial"),
         nu_(p.number("nu")),
         angles_(parse_angles(p.text("angles"))),
-        points_(p.integer("points")),
         consistent_(p.text("mass") == "consistent"),
         map_(p.text("map") == "sigma-kappa"),
         map_limit_(p.number("map_limit")),
         half_width_(p.integer("half_width")) {
     if (lattice_ == LatticeKind::line && angles_.size() > 1)
       throw InputError("a line lattice has one direction: drop `angles` or use a 2D lattice");
-    if (points_ < 3) throw InputError(fmt::format("points = {} must be at least 3", points_));
     if (!(nu_ >= 0 && nu_ < 0.5)) throw InputError(fmt::format("nu = {} must lie in [0, 0.5)", nu_));
   }
 
@@ -76,8 +74,9 @@ class Dispersion final : public Problem {
     throw std::logic_error("dispersion is an analysis: the runner calls analyse");
   }
   bool analysis() const override { return true; }
-  std::string resolution_name() const override { return "lattice"; }
-  std::vector<int> resolutions(Level) const override { return {1}; }
+  /// The resolution of an analysis on an infinite lattice is its sampling of κ.
+  std::string resolution_name() const override { return "wave numbers per direction"; }
+  std::vector<int> resolutions(Level) const override { return {101}; }
 
   void analyse(const AnalysisContext& c, CaseResult& r) const override;
   std::vector<PublishedValue> published() const override;
@@ -96,7 +95,6 @@ class Dispersion final : public Problem {
   bool biaxial_;
   double nu_;
   std::vector<double> angles_;
-  int points_;
   bool consistent_, map_;
   double map_limit_;
   int half_width_;
@@ -128,12 +126,17 @@ std::string degrees(double a) { return fmt::format("{:g}°", a); }
 
 void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
   const double pi = std::numbers::pi;
+  const int points = c.spec.nodes;
+  if (points < 3)
+    throw InputError(fmt::format("dispersion samples {} wave numbers per direction (the case's "
+                                 "nodes); use at least 3, e.g. 101",
+                                 points));
   const double t0 = cpu_seconds();
   const BlochRow row = bloch_row(c.method, setup(c.catalogue, sigma_));
   const double t1 = cpu_seconds();
   std::vector<double> thetas;
   for (double a : angles_) thetas.push_back(a * pi / 180);
-  const StabilityVerdict v = stability_verdict(row, thetas, points_, modulus(), 1.0, sigma_ > 0);
+  const StabilityVerdict v = stability_verdict(row, thetas, points, modulus(), 1.0, sigma_ > 0);
   r.particles = row.patch_particles;
   r.h = 1;
   r.dim = dim();
@@ -160,7 +163,7 @@ void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
   for (int b = 0; b < dim(); ++b) table.columns.push_back(fmt::format("omega2_branch{}", b + 1));
   table.columns.push_back("max_abs_imag_omega2");
   for (double angle : angles_) {
-    const DispersionBranch br = dispersion_branch(row, angle * pi / 180, points_, modulus(), 1.0);
+    const DispersionBranch br = dispersion_branch(row, angle * pi / 180, points, modulus(), 1.0);
     for (int b = 0; b < dim(); ++b) {
       AnalysisData::Curve cv{"dispersion",
                              dim() == 1 ? "ω" : fmt::format("θ = {} branch {}", degrees(angle), b + 1),
@@ -190,7 +193,7 @@ void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
     AnalysisData::Table mt{"stable-domain", {"theta_deg", "kappa_over_pi_dx", "sigma_lower", "sigma_upper"}, {}};
     for (double angle : angles_) {
       const ThresholdCurve tc =
-          stress_threshold(zero, unit, angle * pi / 180, points_, map_limit_, modulus(), 1.0);
+          stress_threshold(zero, unit, angle * pi / 180, points, map_limit_, modulus(), 1.0);
       const std::string at = dim() == 1 ? "" : fmt::format(" θ = {}", degrees(angle));
       a.curves.push_back({"stable-domain", "lower bound" + at, tc.kappa, tc.lower});
       a.curves.push_back({"stable-domain", "upper bound" + at, tc.kappa, tc.upper});
@@ -215,7 +218,7 @@ std::vector<PublishedValue> Dispersion::published() const {
   onset.quantity = kOnset;
   onset.method = "kbm-ni";
   onset.method_params = Params::parse("kernel=quartic-spline,dmax=1.5");
-  onset.nodes = 1;
+  onset.nodes = 101;
   onset.value = 0.6;
   onset.note = "read off the figure (\"about 0.6π/Δx\")";
   onset.problem_params = Params::parse("lattice=line,frame=eulerian,sigma=1");
@@ -394,7 +397,6 @@ void register_dispersion(ProblemRegistry& r) {
                         "2D prestress: sigma in xx and yy, or xx only"),
       ParamSpec::number("nu", 0.25, "2D: Poisson's ratio of the plane-strain material (lambda = mu at 0.25)"),
       ParamSpec::choice("angles", "0", {}, "wave directions theta in degrees, colon-separated (2D), e.g. 0:30:45:90"),
-      ParamSpec::count("points", 101, 3, "wave numbers per direction, 0 to the Brillouin-zone boundary"),
       ParamSpec::choice("mass", "lumped", {"lumped", "consistent"},
                         "lumped rho V (000) or the consistent mass (Galerkin methods)"),
       ParamSpec::choice("map", "none", {"none", "sigma-kappa"},

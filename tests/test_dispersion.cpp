@@ -379,11 +379,15 @@ TEST(Dispersion, BadInputIsRefusedWithTheFix) {
   CaseSpec spec;
   spec.problem = "dispersion";
   spec.method = "kbm-ni";
-  spec.nodes = 1;
-  for (const char* bad : {"lattice=square", "angles=0:x", "points=2", "lattice=line,angles=0:45"}) {
+  spec.nodes = 101;
+  for (const char* bad : {"lattice=square", "angles=0:x", "points=41", "lattice=line,angles=0:45"}) {
     spec.problem_params = Params::parse(bad);
     EXPECT_THROW(run_case(catalogue(), spec), InputError) << bad;
   }
+  spec.problem_params = Params{};
+  spec.nodes = 2;
+  EXPECT_THROW(run_case(catalogue(), spec), InputError);
+  spec.nodes = 101;
   spec.method = "sph";
   spec.problem_params = Params::parse("mass=consistent");
   EXPECT_THROW(run_case(catalogue(), spec), InputError);
@@ -394,7 +398,7 @@ TEST(Dispersion, TheProblemRunsAMethodAddedInATestByName) {
   spec.problem = "dispersion";
   spec.method = "frozen-shepard";
   spec.problem_params = Params::parse("frame=eulerian,sigma=1");
-  spec.nodes = 1;
+  spec.nodes = 101;
   const CaseResult r = run_case(catalogue(), spec);
   EXPECT_EQ(r.headline.at("unstable"), 1);
   ASSERT_FALSE(r.analysis.verdicts.empty());
