@@ -170,6 +170,7 @@ void register_grk_bar(ProblemRegistry&);
 void register_dispersion(ProblemRegistry&);
 void register_time_step(ProblemRegistry&);
 void register_enriched_bar(ProblemRegistry&);
+void register_stretch_map(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -183,6 +184,7 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_dispersion(r);
   register_time_step(r);
   register_enriched_bar(r);
+  register_stretch_map(r);
 }
 
 /// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,
