@@ -162,6 +162,13 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
 }
 
 void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
+  if (c.problems.create(o.problem, Params::parse(o.problem_params))->analysis()) {
+    // Analyses have no field to show errors of: print what `mfv analyse` prints.
+    command_analyse(c, AnalyseOptions{o.problem, o.method, o.method_params, o.problem_params,
+                                      o.nodes, "", true},
+                    out);
+    return;
+  }
   CaseSpec spec;
   spec.problem = o.problem;
   spec.method = o.method;

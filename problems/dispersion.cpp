@@ -27,25 +27,6 @@ constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
 constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
 constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
 
-std::vector<double> parse_angles(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ':')) {
-    try {
-      std::size_t used = 0;
-      const double a = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(a)) throw std::invalid_argument(item);
-      out.push_back(a);
-    } catch (const std::exception&) {
-      throw InputError(fmt::format("angles='{}': '{}' is not a number; give degrees separated "
-                                   "by colons, e.g. angles=0:30:45",
-                                   text, item));
-    }
-  }
-  if (out.empty()) throw InputError("angles is empty; give degrees separated by colons, e.g. 0:45");
-  return out;
-}
 
 class Dispersion final : public Problem {
  public:
@@ -55,7 +36,7 @@ class Dispersion final : public Problem {
         sigma_(p.number("sigma")),
         biaxial_(p.text("stress") == "biaxial"),
         nu_(p.number("nu")),
-        angles_(parse_angles(p.text("angles"))),
+        angles_(parse_angles_degrees(p.text("angles"))),
         consistent_(p.text("mass") == "consistent"),
         map_(p.text("map") == "sigma-kappa"),
         map_limit_(p.number("map_limit")),

@@ -40,25 +40,6 @@ constexpr const char* kEulBreak = "states without an Eulerian discretization";
 constexpr const char* kLagAgree = "fraction of states where Lagrangian agrees with PDE";
 constexpr const char* kEulAgree = "fraction of states where Eulerian agrees with PDE";
 
-std::vector<double> parse_angles(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ':')) {
-    try {
-      std::size_t used = 0;
-      const double a = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(a)) throw std::invalid_argument(item);
-      out.push_back(a);
-    } catch (const std::exception&) {
-      throw InputError(fmt::format("angles='{}': '{}' is not a number; give degrees separated "
-                                   "by colons, e.g. angles=0:45:90",
-                                   text, item));
-    }
-  }
-  if (out.empty()) throw InputError("angles is empty; give degrees separated by colons, e.g. 0:45:90");
-  return out;
-}
 
 class StretchMap final : public Problem {
  public:
@@ -69,7 +50,7 @@ class StretchMap final : public Problem {
         grid_(p.integer("grid")),
         lagrangian_(p.text("frames") != "eulerian"),
         eulerian_(p.text("frames") != "lagrangian"),
-        angles_(parse_angles(p.text("angles"))),
+        angles_(parse_angles_degrees(p.text("angles"))),
         points_(p.integer("points")),
         density_(p.number("density")),
         material_params_(Params::parse(fmt::format("c1={},c2={},lambda={}", p.number("c1"),
@@ -93,8 +74,8 @@ class StretchMap final : public Problem {
     throw std::logic_error("stretch-map is an analysis: the runner calls analyse");
   }
   bool analysis() const override { return true; }
-  std::string resolution_name() const override { return "lattice"; }
-  std::vector<int> resolutions(Level) const override { return {1}; }
+  std::string resolution_name() const override { return "states per stretch axis (the grid parameter)"; }
+  std::vector<int> resolutions(Level) const override { return {grid_}; }
 
   void analyse(const AnalysisContext& c, CaseResult& r) const override;
   std::vector<std::string> published_notes() const override;
