@@ -252,7 +252,7 @@ class EnrichedBar final : public Problem {
     const bool mls1_point = p_.text("mls1") == "point";
     std::vector<int> active;
     for (int i = 0; i < 3; ++i)
-      if (p_.text("mass") == "all" || p_.text("mass") == kSchemeNames[static_cast<int>(kSweepSchemes[i])])
+      if (p_.text("mass") == "all" || p_.text("mass") == scheme_name(kSweepSchemes[i]))
         active.push_back(i);
 
     // Δt of every mass scheme for a method variant.
@@ -319,7 +319,7 @@ class EnrichedBar final : public Problem {
         const std::vector<double> ref = steps(q, en);
         std::vector<AnalysisData::Curve> ratio(3), abs(3);
         for (int i = 0; i < 3; ++i) {
-          ratio[i] = {fig, fmt::format("{} DMAX={}", kSchemeNames[static_cast<int>(kSweepSchemes[i])], dm), {}, {}};
+          ratio[i] = {fig, fmt::format("{} DMAX={}", scheme_name(kSweepSchemes[i]), dm), {}, {}};
           abs[i] = {an.figures.back().id, ratio[i].label, {}, {}};
         }
         for (int k = 0; k < npos; ++k) {
@@ -347,7 +347,7 @@ class EnrichedBar final : public Problem {
         for (int i : active) {
           const double lo = *std::min_element(ratio[i].y.begin(), ratio[i].y.end());
           const auto at = std::min_element(ratio[i].y.begin(), ratio[i].y.end()) - ratio[i].y.begin();
-          const std::string scheme = kSchemeNames[static_cast<int>(kSweepSchemes[i])];
+          const std::string scheme = scheme_name(kSweepSchemes[i]);
           if (dm == dmax0) {
             r.headline[fmt::format("min dt ratio {}{}", scheme, suffix)] = lo;
             // s = 0: the crack through a node, 003's "worst case".
