@@ -25,14 +25,6 @@ namespace {
 using SpMat = Eigen::SparseMatrix<double>;
 
 /// Largest distance between an integration point and a particle its table involves.
-double table_radius(const ShapeTable& t, const Eigen::MatrixXd& points, const Eigen::MatrixXd& X) {
-  double r = 0;
-  for (int q = 0; q < t.points(); ++q)
-    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
-      r = std::max(r, (points.col(q) - X.col(t.index[e])).norm());
-  return r;
-}
-
 /// For every particle, the particles within `radius` (itself included), from a bucket grid of
 /// cell size `radius`.
 std::vector<std::vector<int>> neighbours_within(const Eigen::MatrixXd& X, double radius) {
@@ -106,6 +98,14 @@ class InverseMassStiffness {
 };
 
 }  // namespace
+
+double table_radius(const ShapeTable& t, const Eigen::MatrixXd& points, const Eigen::MatrixXd& X) {
+  double r = 0;
+  for (int q = 0; q < t.points(); ++q)
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
+      r = std::max(r, (points.col(q) - X.col(t.index[e])).norm());
+  return r;
+}
 
 MassKind mass_kind_from(const std::string& name) {
   if (name == "lumped") return MassKind::lumped;

@@ -54,6 +54,10 @@ Eigen::SparseMatrix<double> tangent_stiffness(const ExplicitDynamics& engine,
                                               double relative_step = 1e-6, bool coloured = true,
                                               StiffnessProbe* probe = nullptr);
 
+/// The largest distance between an integration point and a particle of its row in table t:
+/// the support radius the table really uses (the reach of stiffness columns is built from it).
+double table_radius(const ShapeTable& t, const Eigen::MatrixXd& points, const Eigen::MatrixXd& X);
+
 /// Consistent mass on `free`: per component, M_IJ = Σ_q w_q ρ N^test_I(x_q) N^trial_J(x_q)
 /// from the t = 0 tables (symmetric for Galerkin methods). Throws InputError for methods
 /// without shape-function values at their points (collocation: sph, rlm).

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "stability/critical_step.hpp"
 
 namespace mfv {
 
@@ -15,21 +16,22 @@ namespace {
 
 constexpr double kZero = 1e-7;  ///< |ω²| below this many (c π/Δx)² counts as zero
 
-/// Largest distance between the centre particle and the points its test function samples,
-/// and between those points and the particles their trial functions involve.
-void support_radii(const Discretization& d, int centre, double& r_test, double& r_trial) {
-  r_test = r_trial = 0;
-  const Eigen::VectorXd xc = d.particles.x.col(centre);
-  for (int q = 0; q < d.test_q.points(); ++q)
-    for (int e = d.test_q.offsets[q]; e < d.test_q.offsets[q + 1]; ++e) {
-      if (d.test_q.index[e] != centre) continue;
-      const Eigen::VectorXd xq = d.quadrature.points.col(q);
-      r_test = std::max(r_test, (xq - xc).norm());
-      for (int k = d.trial_q.offsets[q]; k < d.trial_q.offsets[q + 1]; ++k)
-        r_trial = std::max(r_trial, (xq - d.particles.x.col(d.trial_q.index[k])).norm());
-      for (int k = d.test_q.offsets[q]; k < d.test_q.offsets[q + 1]; ++k)
-        r_trial = std::max(r_trial, (xq - d.particles.x.col(d.test_q.index[k])).norm());
-    }
+/// π/Δx: the unit wave numbers are reported in.
+double kappa_unit(const BlochRow& row) { return std::numbers::pi / row.spacing; }
+/// (c π/Δx)² with c² = modulus/ρ: the unit ω² is reported in.
+double omega2_unit(const BlochRow& row, double modulus, double density) {
+  return modulus / density * kappa_unit(row) * kappa_unit(row);
+}
+/// The unit wave direction θ (1D: +x).
+Eigen::VectorXd direction(int dim, double theta) {
+  Eigen::VectorXd dir(dim);
+  if (dim == 1) dir << 1;
+  else dir << std::cos(theta), std::sin(theta);
+  return dir;
+}
+/// The lowest ω² branch at wave number k along dir, in units of `scale`.
+double lowest(const BlochRow& row, double k, const Eigen::VectorXd& dir, double scale) {
+  return row.omega2(k * dir)[0] / scale;
 }
 
 int round_half_width(LatticeKind kind, double w) {
@@ -62,8 +64,12 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   LatticePatch probe = lattice_patch(s.lattice, dx, s.lattice == LatticeKind::line ? 12 : 8);
   double r_test = 0, r_trial = 0;
   {
+    // Supports are the same everywhere on a lattice, so the tables' largest point–particle
+    // distances are the centre's. A point's own neighbours (trial or test) set how far its
+    // tables move when the particles do.
     const Discretization d = discretize_patch(method, probe);
-    support_radii(d, probe.centre, r_test, r_trial);
+    r_test = table_radius(d.test_q, d.quadrature.points, d.particles.x);
+    r_trial = std::max(table_radius(d.trial_q, d.quadrature.points, d.particles.x), r_test);
   }
   if (!(r_test > 0))
     throw InputError("the method's test function of the centre particle samples no point: "
@@ -91,12 +97,6 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   const int n = patch.particles.size(), c = patch.centre;
   const Eigen::MatrixXd X = patch.particles.x;
   row.lumped_mass = s.density * patch.particles.volume[c];
-  if (s.consistent_mass) {
-    if (d.particle_values || static_cast<int>(d.trial_q.value.size()) != d.trial_q.entries())
-      throw InputError(fmt::format("{} has no trial shape-function values at its points, so no "
-                                   "consistent mass; use mass=lumped",
-                                   d.description));
-  }
   // 3. The engine on the patch, moved to the deformed state if there is one.
   DynamicsModel model;
   model.material = s.material;
@@ -109,20 +109,14 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   std::vector<int> neighbours;
   for (int J = 0; J < n; ++J)
     if ((X.col(J) - X.col(c)).norm() <= reach + 1e-9 * dx) neighbours.push_back(J);
-  // Consistent mass row from the t = 0 tables (the reference configuration).
+  // The centre's row of the consistent mass from the t = 0 tables (the reference
+  // configuration), the same matrix the critical-step analysis uses; its component blocks
+  // are diagonal and equal, so component 0 stands for all.
   std::vector<double> mass_row;
   if (s.consistent_mass) {
-    Eigen::VectorXd m = Eigen::VectorXd::Zero(n);
-    const ShapeTable& t = d.trial_q;
-    for (int q = 0; q < t.points(); ++q) {
-      double nc = 0;
-      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
-        if (t.index[e] == c) nc = t.value[e];
-      if (nc == 0) continue;
-      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
-        m[t.index[e]] += s.density * d.quadrature.weights[q] * nc * t.value[e];
-    }
-    for (int J : neighbours) mass_row.push_back(m[J]);
+    const Eigen::SparseMatrix<double> M =
+        consistent_mass(d, s.density, free_unknowns(dim * n, {}));
+    for (int J : neighbours) mass_row.push_back(M.coeff(dim * c, dim * J));
   }
   ExplicitDynamics engine(method, std::move(d), std::move(model), opt);
   if (s.deformation.size()) {
@@ -191,14 +185,11 @@ BlochRow BlochRow::combine(const BlochRow& a, const BlochRow& b, double s) {
 DispersionBranch dispersion_branch(const BlochRow& row, double theta, int points,
                                    double modulus, double density) {
   if (points < 2) throw InputError(fmt::format("a branch needs at least 2 wave numbers, got {}", points));
-  const double pi = std::numbers::pi, unit = pi / row.spacing;
-  const double scale = modulus / density * unit * unit;
+  const double unit = kappa_unit(row), scale = omega2_unit(row, modulus, density);
   const double kmax = brillouin_boundary(row.lattice, row.spacing, theta);
   DispersionBranch b;
   b.theta = theta;
-  Eigen::VectorXd dir(row.dim);
-  if (row.dim == 1) dir << 1;
-  else dir << std::cos(theta), std::sin(theta);
+  const Eigen::VectorXd dir = direction(row.dim, theta);
   for (int i = 0; i < points; ++i) {
     const double k = kmax * i / (points - 1);
     double im = 0;
@@ -211,26 +202,16 @@ DispersionBranch dispersion_branch(const BlochRow& row, double theta, int points
   return b;
 }
 
-namespace {
-
-double lowest(const BlochRow& row, double k, const Eigen::VectorXd& dir, double scale) {
-  return row.omega2(k * dir)[0] / scale;
-}
-
-}  // namespace
-
 StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double>& thetas,
                                    int points, double modulus, double density, bool tension) {
   if (thetas.empty()) throw InputError("a stability verdict needs at least one direction");
-  const double pi = std::numbers::pi, unit = pi / row.spacing;
-  const double scale = modulus / density * unit * unit;
+  const double pi = std::numbers::pi;
+  const double unit = kappa_unit(row), scale = omega2_unit(row, modulus, density);
   StabilityVerdict v;
   double min_ratio = 1e300;
   for (std::size_t t = 0; t < thetas.size(); ++t) {
     const double theta = thetas[t];
-    Eigen::VectorXd dir(row.dim);
-    if (row.dim == 1) dir << 1;
-    else dir << std::cos(theta), std::sin(theta);
+    const Eigen::VectorXd dir = direction(row.dim, theta);
     const double kmax = brillouin_boundary(row.lattice, row.spacing, theta);
     double prev_k = 0;
     bool found_onset = false;
@@ -275,12 +256,9 @@ StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double
 
 ThresholdCurve stress_threshold(const BlochRow& unstressed, const BlochRow& stressed, double theta,
                                 int points, double limit, double modulus, double density) {
-  const double pi = std::numbers::pi, unit = pi / unstressed.spacing;
-  const double scale = modulus / density * unit * unit;
+  const double unit = kappa_unit(unstressed), scale = omega2_unit(unstressed, modulus, density);
   const double kmax = brillouin_boundary(unstressed.lattice, unstressed.spacing, theta);
-  Eigen::VectorXd dir(unstressed.dim);
-  if (unstressed.dim == 1) dir << 1;
-  else dir << std::cos(theta), std::sin(theta);
+  const Eigen::VectorXd dir = direction(unstressed.dim, theta);
   ThresholdCurve c;
   const int grid = 200;
   for (int i = 1; i < points; ++i) {
