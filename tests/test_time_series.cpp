@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include "temp_files.hpp"
+
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -33,41 +35,14 @@ using namespace mfv;
 
 namespace {
 
-/// A fresh directory per test, removed afterwards, so tests cannot see each other's files.
-class TempDir {
+using test::names_in;
+using test::read_file;
+
+/// A fresh directory per test (tests/temp_files.hpp).
+class TempDir : public test::TempDir {
  public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("mfv-test-time-series-" + std::to_string(::getpid()) +
-                                         "-" + info->test_suite_name() + "-" + info->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+  TempDir() : test::TempDir("mfv-test-time-series") {}
 };
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 /// Four particles in 2D with a scalar, a 2-vector and a Voigt stress, all distinct values.
 ParticleFrame frame_2d(double t) {
