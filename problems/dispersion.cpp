@@ -27,7 +27,6 @@ constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
 constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
 constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
 
-
 class Dispersion final : public Problem {
  public:
   explicit Dispersion(const Params& p)

@@ -40,7 +40,6 @@ constexpr const char* kEulBreak = "states without an Eulerian discretization";
 constexpr const char* kLagAgree = "fraction of states where Lagrangian agrees with PDE";
 constexpr const char* kEulAgree = "fraction of states where Eulerian agrees with PDE";
 
-
 class StretchMap final : public Problem {
  public:
   explicit StretchMap(const Params& p)
