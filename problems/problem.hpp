@@ -54,6 +54,9 @@ struct PublishedValue {
   /// Problem parameters the value belongs to (e.g. loading=gaussian); a case matches when
   /// it set each of them to the same value or left it at its default.
   Params problem_params;
+  /// Relative tolerance on ours/published for the verdict (verify/comparison.hpp); the
+  /// ledger row of this value (suites/ledger.toml) states the same number.
+  double tolerance = 0.05;
 };
 
 /// One refinement study as the findings see it (built by the reports from a StudyResult).
@@ -81,6 +84,8 @@ struct Finding {
   std::string claim;
   std::string criterion;  ///< how we decide, printed beside the verdict
   std::function<Verdict(const std::vector<StudySummary>&)> check;
+  /// Stable key of the finding within its problem ("kbm-si-rate"), named by ledger rows.
+  std::string id;
 };
 
 /// Resolutions per suite level.
