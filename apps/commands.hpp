@@ -30,6 +30,7 @@ struct CompareOptions {
   double perturbation = 0;
   std::string report;  ///< report directory; empty: print only
   bool vtk = true;
+  bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };
 /// `mfv study` / `mfv compare`: refinement studies of one or several methods on one problem;
 /// prints a rate table and, with a report directory, writes the comparison report there.
@@ -42,6 +43,7 @@ struct AnalyseOptions {
   int nodes = 0;       ///< 0: the problem's first standard resolution
   std::string report;  ///< report directory; empty: reports/<problem>-<method>
   bool no_report = false;
+  bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };
 /// `mfv analyse` and `mfv dispersion`: one analysis case (dispersion, time-step, enriched-bar,
 /// stretch-map) of any method by name; prints the set-up, verdicts and measured values with
@@ -59,6 +61,7 @@ struct VerifyOptions {
   std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
   bool no_report = false;
   bool vtk = true;
+  bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };
 /// `mfv verify`: runs a manifest's studies, checks every band and the baseline, writes the
 /// report, prints one verdict line per case and every violation. Returns 0 when all cases are

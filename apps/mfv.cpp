@@ -6,9 +6,12 @@
 #include <fmt/format.h>
 
 #include "apps/commands.hpp"
+#include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
 
 int main(int argc, char** argv) {
+  // First, before any thread exists: an interrupted run removes its staging directory.
+  mfv::install_staging_cleanup();
   CLI::App app{"mfv: verification suite for meshfree particle methods"};
   app.require_subcommand(1);
 
@@ -38,6 +41,9 @@ int main(int argc, char** argv) {
     c->add_option("--perturb", cmp.perturbation, "random particle offsets, fraction of dx");
     c->add_option("--report,-r", cmp.report, "write a report into this directory");
     c->add_flag("!--no-vtk", cmp.vtk, "leave VTK files out of the report");
+    c->add_flag("--force", cmp.force,
+                "replace an earlier mfv report even if files were added to it (never anything "
+                "that is not an mfv report)");
   };
   auto* cmd_study = app.add_subcommand("study", "refinement study of one method: errors, rates");
   add_study_options(cmd_study);
@@ -65,6 +71,8 @@ int main(int argc, char** argv) {
   cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)");
   cmd_analyse->add_option("--report,-r", ana.report, "report directory (default reports/<problem>-<method>)");
   cmd_analyse->add_flag("--no-report", ana.no_report, "print only");
+  cmd_analyse->add_flag("--force", ana.force, "replace an earlier mfv report even if files were "
+                                              "added to it");
 
   // `dispersion` is `analyse dispersion` with the analysis parameters as named options.
   mfv::AnalyseOptions dis;
@@ -86,6 +94,8 @@ int main(int argc, char** argv) {
   cmd_dispersion->add_flag("--map", map, "also the (sigma, kappa) stable domain");
   cmd_dispersion->add_option("--report,-r", dis.report, "report directory");
   cmd_dispersion->add_flag("--no-report", dis.no_report, "print only");
+  cmd_dispersion->add_flag("--force", dis.force, "replace an earlier mfv report even if files "
+                                                 "were added to it");
 
   mfv::VerifyOptions ver;
   auto* cmd_verify = app.add_subcommand(
@@ -99,6 +109,8 @@ int main(int argc, char** argv) {
   cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)");
   cmd_verify->add_flag("--no-report", ver.no_report, "write no report");
   cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report");
+  cmd_verify->add_flag("--force", ver.force, "replace an earlier mfv report even if files were "
+                                             "added to it");
 
   std::string ctest_manifest, ctest_output, ctest_mfv;
   auto* cmd_ctest = app.add_subcommand(

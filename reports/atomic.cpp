@@ -1,13 +1,27 @@
 #include "reports/atomic.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <csignal>
+#include <ctime>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <thread>
 #include <stdexcept>
 #include <system_error>
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
+
+#include "methods/core/errors.hpp"
 
 namespace mfv {
 
@@ -105,51 +119,341 @@ void write_file_atomic(const fs::path& path, std::string_view content) {
   temp.commit();
 }
 
-StagedDirectory::StagedDirectory(fs::path target) : target_(std::move(target)) {
+namespace {
+
+std::string what_is(fs::file_type t) {
+  switch (t) {
+    case fs::file_type::regular: return "a regular file";
+    case fs::file_type::symlink: return "a symbolic link";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::character: return "a character device";
+    case fs::file_type::fifo: return "a named pipe";
+    case fs::file_type::socket: return "a socket";
+    case fs::file_type::directory: return "a directory";
+    default: return "not a regular file or directory";
+  }
+}
+
+/// "file.md", "plots/a.svg", …: every non-directory entry below `dir`, links not followed.
+std::vector<std::string> files_below(const fs::path& dir) {
+  std::vector<std::string> files;
+  for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator();
+       ++it) {
+    if (it->is_directory(/*follows no link*/) && !it->is_symlink()) continue;
+    files.push_back(fs::relative(it->path(), dir).generic_string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string utc_now_iso() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+/// The live staging directories of this process, for the signal thread. A process-wide
+/// registry is unavoidable here: a signal names no object.
+struct StagingRegistry {
+  std::mutex mutex;
+  std::set<fs::path> live;   ///< staging directories
+  std::set<fs::path> locks;  ///< lock files
+  static StagingRegistry& get() {
+    static StagingRegistry r;
+    return r;
+  }
+};
+
+bool is_pid_suffix(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+}  // namespace
+
+std::optional<ReportMarker> read_report_marker(const fs::path& dir) {
+  const fs::path file = dir / kReportMarker;
+  std::error_code ec;
+  if (fs::symlink_status(file, ec).type() != fs::file_type::regular) return std::nullopt;
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != "mfv-report 1") return std::nullopt;
+  ReportMarker m;
+  while (std::getline(in, line)) {
+    const auto space = line.find(' ');
+    if (space == std::string::npos) continue;
+    const std::string key = line.substr(0, space), value = line.substr(space + 1);
+    if (key == "suite") m.suite = value;
+    else if (key == "time") m.time = value;
+    else if (key == "version") m.version = value;
+    else if (key == "file") m.files.push_back(value);
+  }
+  return m;
+}
+
+void check_report_target(const fs::path& target_in, bool force) {
+  fs::path target = target_in;
+  if (!target.has_filename()) target = target.parent_path();
+  const std::string name = target.filename().string();
+  if (target.empty() || name == "." || name == "..")
+    throw InputError(fmt::format(
+        "report directory '{}' names no directory of its own; give a new or empty directory, "
+        "e.g. 'reports/run'", target_in.string()));
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(target, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw InputError(fmt::format("cannot inspect report directory '{}': {}", target.string(),
+                                 ec.message()));
+  if (st.type() == fs::file_type::not_found) return;
+  if (st.type() != fs::file_type::directory)
+    throw InputError(fmt::format(
+        "report directory '{}' exists and is {}; mfv never replaces it{}: give a new or empty "
+        "directory, or an earlier mfv report",
+        target.string(), what_is(st.type()),
+        st.type() == fs::file_type::symlink ? " (nor what it points to)" : ""));
+  std::vector<std::string> present;
+  try {
+    present = files_below(target);
+  } catch (const fs::filesystem_error& e) {
+    throw InputError(fmt::format("cannot list report directory '{}': {}", target.string(),
+                                 e.code().message()));
+  }
+  const auto marker = read_report_marker(target);
+  if (!marker) {
+    bool empty = fs::is_empty(target, ec);
+    if (empty) return;
+    std::string legacy;
+    {
+      std::ifstream index(target / "index.md");
+      std::string first;
+      if (std::getline(index, first) && first.rfind("# mfv ", 0) == 0)
+        legacy = " (it looks like a report of an mfv older than the marker: remove it yourself "
+                 "if it is)";
+    }
+    throw InputError(fmt::format(
+        "report directory '{}' is not empty and is not an mfv report (no {} marker; it holds "
+        "'{}'{}){}; mfv never replaces it: give a new or empty directory, e.g. '{}'",
+        target.string(), kReportMarker, present.empty() ? "empty folders" : present.front(),
+        present.size() > 1 ? fmt::format(" and {} more", present.size() - 1) : "", legacy,
+        (target / "mfv-report").string()));
+  }
+  const std::set<std::string> ours(marker->files.begin(), marker->files.end());
+  std::vector<std::string> foreign;
+  for (const auto& f : present)
+    if (f != kReportMarker && !ours.count(f)) foreign.push_back(f);
+  if (!foreign.empty() && !force)
+    throw InputError(fmt::format(
+        "report directory '{}' is an mfv report (suite '{}', {}) but holds {} file(s) mfv did not "
+        "write, e.g. '{}'; move them out, or pass --force to replace the report with them",
+        target.string(), marker->suite, marker->time, foreign.size(), foreign.front()));
+}
+
+void check_output_file(const fs::path& path, const std::string& what,
+                       bool (*ours)(const std::string& head)) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (st.type() == fs::file_type::not_found) return;
+  if (st.type() != fs::file_type::regular)
+    throw InputError(fmt::format("{} '{}' exists and is {}; mfv never replaces it: give another "
+                                 "file name",
+                                 what, path.string(), what_is(st.type())));
+  std::ifstream in(path, std::ios::binary);
+  std::string head(512, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (!head.empty() && !ours(head))
+    throw InputError(fmt::format("{} '{}' exists and is not a file mfv wrote; mfv never replaces "
+                                 "it: give another file name, or move it away",
+                                 what, path.string()));
+}
+
+StagedDirectory::StagedDirectory(fs::path target, Options options)
+    : target_(std::move(target)), options_(std::move(options)) {
   if (!target_.has_filename()) target_ = target_.parent_path();  // "reports/run/"
+  check_report_target(target_, options_.force);
   const fs::path parent = target_.parent_path();
   const std::string name = target_.filename().string();
-  staging_ = parent / fmt::format(".{}.staging-{}", name, ::getpid());
-  old_ = parent / fmt::format(".{}.old-{}", name, ::getpid());
-  fs::remove_all(staging_);
-  if (!parent.empty()) fs::create_directories(parent);
-  fs::create_directory(staging_);
+  std::error_code ec;
+  if (!parent.empty()) {
+    fs::create_directories(parent, ec);
+    if (ec || !fs::is_directory(parent))
+      throw InputError(fmt::format("cannot create the directory '{}' for report '{}': {}",
+                                   parent.string(), target_.string(),
+                                   ec ? ec.message() : "it exists and is not a directory"));
+  }
+  const fs::path dir = parent.empty() ? fs::path(".") : parent;
+  lock_ = dir / fmt::format(".{}.mfv-lock", name);
+  // The lock file is removed on release, so a file locked here may have been unlinked (and
+  // replaced by a newer one) between open and flock: lock again until the path is ours.
+  for (int attempt = 0; lock_fd_ < 0; ++attempt) {
+    const int fd = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
+    if (fd < 0)
+      throw InputError(fmt::format("cannot write into '{}' for report '{}': {}; choose a writable "
+                                   "report directory",
+                                   dir.string(), target_.string(), errno_text(errno)));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      ::close(fd);
+      throw InputError(
+          err == EWOULDBLOCK
+              ? fmt::format("another mfv run is writing the report '{}'; wait for it to finish "
+                            "or choose another report directory",
+                            target_.string())
+              : fmt::format("cannot lock '{}': {}", lock_.string(), errno_text(err)));
+    }
+    struct stat held {}, named {};
+    if (::fstat(fd, &held) == 0 && ::stat(lock_.c_str(), &named) == 0 &&
+        held.st_dev == named.st_dev && held.st_ino == named.st_ino) {
+      lock_fd_ = fd;
+    } else {
+      ::close(fd);
+      if (attempt > 100)
+        throw InputError(fmt::format("cannot lock '{}': it keeps being replaced", lock_.string()));
+    }
+  }
+  // Under the lock no other live run writes this target: every staging or old copy of it is
+  // a dead run's (or a recycled pid's) and is removed.
+  const std::string stage_prefix = fmt::format(".{}.staging-", name);
+  const std::string old_prefix = fmt::format(".{}.old-", name);
+  try {
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string n = e.path().filename().string();
+      for (const auto& prefix : {stage_prefix, old_prefix})
+        if (n.rfind(prefix, 0) == 0 && is_pid_suffix(n.substr(prefix.size())) &&
+            e.symlink_status().type() == fs::file_type::directory) {
+          std::error_code ignored;
+          fs::remove_all(e.path(), ignored);
+        }
+    }
+  } catch (const fs::filesystem_error&) {
+    // An unlistable parent fails below, where the staging directory is created.
+  }
+  staging_ = parent / fmt::format("{}{}", stage_prefix, ::getpid());
+  {
+    auto& reg = StagingRegistry::get();
+    std::lock_guard<std::mutex> hold(reg.mutex);
+    reg.live.insert(staging_);
+    reg.locks.insert(lock_);
+  }
+  if (!fs::create_directory(staging_, ec) || ec) {
+    {
+      auto& reg = StagingRegistry::get();
+      std::lock_guard<std::mutex> hold(reg.mutex);
+      reg.live.erase(staging_);
+      reg.locks.erase(lock_);
+    }
+    ::unlink(lock_.c_str());
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw InputError(fmt::format("cannot create the staging directory '{}' for report '{}': {}",
+                                 staging_.string(), target_.string(),
+                                 ec ? ec.message() : "it exists"));
+  }
 }
 
 StagedDirectory::~StagedDirectory() {
-  if (!committed_) {
-    std::error_code ignored;
-    fs::remove_all(staging_, ignored);
+  {
+    auto& reg = StagingRegistry::get();
+    std::lock_guard<std::mutex> hold(reg.mutex);
+    if (!committed_) {
+      std::error_code ignored;
+      fs::remove_all(staging_, ignored);
+    }
+    reg.live.erase(staging_);
+    if (lock_fd_ >= 0) {
+      ::unlink(lock_.c_str());  // while still held: a run that opened it re-checks the inode
+      ::close(lock_fd_);
+    }
+    reg.locks.erase(lock_);
   }
 }
 
 void StagedDirectory::commit() {
   if (committed_)
     throw std::logic_error(fmt::format("'{}' was already committed", target_.string()));
+  // The signal thread waits while the swap is under way: never half a swap.
+  auto& reg = StagingRegistry::get();
+  std::lock_guard<std::mutex> hold(reg.mutex);
+  std::string marker = fmt::format("mfv-report 1\nsuite {}\ntime {}\nversion {}\n",
+                                   options_.suite.empty() ? "-" : options_.suite, utc_now_iso(),
+                                   MFV_VERSION);
+  for (const auto& f : files_below(staging_))
+    if (f != kReportMarker) marker += fmt::format("file {}\n", f);
+  write_file_atomic(staging_ / kReportMarker, marker);
+  // Someone may have put files into the target while we computed: check again.
+  check_report_target(target_, options_.force);
   std::error_code ec;
-  const bool had_previous = fs::exists(fs::symlink_status(target_));
+  const bool had_previous = fs::exists(fs::symlink_status(target_, ec));
   if (had_previous) {
-    fs::remove_all(old_, ec);  // left over from a crashed run with the same pid
-    fs::rename(target_, old_, ec);
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+      committed_ = true;
+      // The staging name now holds the previous report (ours, or an empty directory).
+      fs::remove_all(staging_, ec);
+      return;
+    }
+    if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP)
+      throw std::runtime_error(fmt::format("cannot swap '{}' into place as '{}': {}",
+                                           staging_.string(), target_.string(),
+                                           errno_text(errno)));
+    // A filesystem without the exchange: move the old report aside first (a short moment
+    // without a report at the path, never a mix of two).
+    const fs::path old = target_.parent_path() /
+                         fmt::format(".{}.old-{}", target_.filename().string(), ::getpid());
+    fs::remove_all(old, ec);
+    fs::rename(target_, old, ec);
     if (ec)
       throw std::runtime_error(fmt::format("cannot move the previous '{}' aside: {}",
                                            target_.string(), ec.message()));
+    fs::rename(staging_, target_, ec);
+    if (ec) {
+      std::error_code back;
+      fs::rename(old, target_, back);
+      throw std::runtime_error(fmt::format("cannot move '{}' into place as '{}': {}{}",
+                                           staging_.string(), target_.string(), ec.message(),
+                                           back ? fmt::format("; the previous report is left in '{}'",
+                                                              old.string())
+                                                : ""));
+    }
+    committed_ = true;
+    fs::remove_all(old, ec);
+    return;
   }
   fs::rename(staging_, target_, ec);
-  if (ec) {
-    std::string restored;
-    if (had_previous) {
-      std::error_code back;
-      fs::rename(old_, target_, back);
-      if (back) restored = fmt::format("; the previous report is left in '{}'", old_.string());
-    }
-    throw std::runtime_error(fmt::format("cannot move '{}' into place as '{}': {}{}",
-                                         staging_.string(), target_.string(), ec.message(),
-                                         restored));
-  }
+  if (ec)
+    throw std::runtime_error(fmt::format("cannot move '{}' into place as '{}': {}",
+                                         staging_.string(), target_.string(), ec.message()));
   committed_ = true;
-  // The new report is in place; a leftover old copy is hidden and replaced next time.
-  if (had_previous) fs::remove_all(old_, ec);
+}
+
+void install_staging_cleanup() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  std::thread([set] {
+    int sig = 0;
+    if (sigwait(&set, &sig) != 0) return;
+    {
+      auto& reg = StagingRegistry::get();
+      std::lock_guard<std::mutex> hold(reg.mutex);
+      for (const auto& dir : reg.live) {
+        std::error_code ignored;
+        fs::remove_all(dir, ignored);
+      }
+      for (const auto& lock : reg.locks) ::unlink(lock.c_str());
+      reg.live.clear();
+      reg.locks.clear();
+      // Die of the same signal, with the registry held so no commit starts afterwards.
+      std::signal(sig, SIG_DFL);
+      pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+      ::raise(sig);
+    }
+    ::_exit(128 + sig);
+  }).detach();
 }
 
 }  // namespace mfv

@@ -2,7 +2,9 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <optional>
 #include <string_view>
+#include <vector>
 
 namespace mfv {
 
@@ -34,15 +36,45 @@ class PendingFile {
   bool committed_ = false;
 };
 
+/// The marker file mfv writes into every report directory: "mfv-report 1", the suite, the
+/// time, mfv's version and one "file <relative path>" line per file of the report. A target
+/// directory is replaced only when it is absent, empty, or holds this marker.
+inline constexpr const char* kReportMarker = ".mfv-report";
+
+/// What a report directory's marker says; `files` are the paths mfv wrote, relative to it.
+struct ReportMarker {
+  std::string suite, time, version;
+  std::vector<std::string> files;
+};
+
+/// Reads `dir`/.mfv-report; std::nullopt when there is none or it is not mfv's.
+std::optional<ReportMarker> read_report_marker(const std::filesystem::path& dir);
+
 /// Builds a whole report directory in `<parent>/.<name>.staging-<pid>` and, on commit(),
-/// swaps it in for `<parent>/<name>`. A run that fails before commit() leaves the previous
-/// report untouched: the destructor only removes the staging directory.
-/// Two objects for the same target in one process would share the staging directory.
+/// swaps it in for `<parent>/<name>` with one atomic exchange (renameat2 RENAME_EXCHANGE), so
+/// there is no moment without a report at the path.
+///
+/// The constructor runs before the computation, so that a bad target fails in a second:
+/// - the target must be absent, an empty directory, or a report mfv wrote (kReportMarker)
+///   holding only files mfv wrote; anything else (a directory of the user's, a regular file, a
+///   device, a symbolic link) throws InputError naming the path and the fix. `force` lets mfv
+///   replace one of its own reports to which files were added, never anything else;
+/// - `<parent>/.<name>.mfv-lock` is locked (flock) against a second writer of the target and
+///   removed when this object goes;
+/// - staging and old copies left by dead runs for this target are removed (they are ours:
+///   only names of the form `.<name>.staging-<pid>` / `.<name>.old-<pid>` are touched);
+/// - the staging directory is created, which proves the parent writable.
+/// A run that fails before commit() leaves the previous report untouched; the destructor only
+/// removes the staging directory. With install_staging_cleanup() a SIGINT, SIGTERM or SIGHUP
+/// removes it too; after a SIGKILL it is hidden (a dot name) and removed by the next run.
 class StagedDirectory {
  public:
-  /// Creates the staging directory afresh (and the parent if missing); throws
-  /// std::filesystem::filesystem_error on failure.
-  explicit StagedDirectory(std::filesystem::path target);
+  struct Options {
+    bool force = false;
+    std::string suite;  ///< recorded in the marker
+  };
+  explicit StagedDirectory(std::filesystem::path target) : StagedDirectory(std::move(target), Options{}) {}
+  StagedDirectory(std::filesystem::path target, Options options);
   StagedDirectory(const StagedDirectory&) = delete;
   StagedDirectory& operator=(const StagedDirectory&) = delete;
   ~StagedDirectory();
@@ -52,14 +84,33 @@ class StagedDirectory {
   const std::filesystem::path& target() const { return target_; }
   bool committed() const { return committed_; }
 
-  /// Moves an existing target aside to `<parent>/.<name>.old-<pid>`, renames the staging
-  /// directory to the target and removes the old one. If the second rename fails the old
-  /// directory is moved back and std::runtime_error is thrown.
+  /// Writes the marker (listing every file in the staging directory), checks the target
+  /// again, and exchanges the staging directory with it (or renames it into place when there
+  /// is none), then removes the previous report. Throws InputError if the target stopped
+  /// being ours to replace, std::runtime_error naming both paths if the exchange fails.
   void commit();
 
  private:
-  std::filesystem::path target_, staging_, old_;
+  std::filesystem::path target_, staging_, lock_;
+  Options options_;
+  int lock_fd_ = -1;
   bool committed_ = false;
 };
+
+/// Checks that `target` may be replaced by a report (the rules of StagedDirectory) without
+/// creating or locking anything; throws InputError naming the path and the fix.
+void check_report_target(const std::filesystem::path& target, bool force);
+
+/// Checks that a single output file (a .vtp, a baseline, a CTest script) may be written:
+/// absent, or a regular file that `ours` recognises from its content as one mfv writes.
+/// Throws InputError naming the path otherwise (a directory, device, link or foreign file).
+void check_output_file(const std::filesystem::path& path, const std::string& what,
+                       bool (*ours)(const std::string& head));
+
+/// Blocks SIGINT, SIGTERM and SIGHUP in the calling thread (call it first in main, before
+/// any other thread starts, so every thread inherits the mask) and starts a thread that, on
+/// one of them, removes every live staging directory and then dies of the same signal. A
+/// staging directory being committed is waited for, so a report is never left half-swapped.
+void install_staging_cleanup();
 
 }  // namespace mfv

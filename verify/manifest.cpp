@@ -281,6 +281,16 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   return c;
 }
 
+/// A suite name becomes a directory under reports/: a name, never a path.
+bool is_plain_name(const std::string& s) {
+  if (s.empty() || s.size() > 100 || !std::isalnum(static_cast<unsigned char>(s.front())))
+    return false;
+  for (char ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '.' && ch != '_' && ch != '-')
+      return false;
+  return s.find("..") == std::string::npos;
+}
+
 void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   static const std::vector<std::string> kKeys = {"name", "description", "baseline",
                                                  "drift_tolerance", "drift_floor"};
@@ -289,7 +299,13 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
     r.fail(line_of(n), fmt::format("'suite' must be a table, got {}", type_name(n)),
            "write the suite settings under a [suite] header");
   check_keys(r, *t, kKeys, "[suite]");
-  if (auto v = t->get("name")) m.name = get_string(r, *v, "name");
+  if (auto v = t->get("name")) {
+    m.name = get_string(r, *v, "name");
+    if (!is_plain_name(m.name))
+      r.fail(line_of(*v), fmt::format("suite name '{}' is not a plain name", m.name),
+             "a suite name names the report directory reports/<name>: use letters, digits, '.', "
+             "'_' and '-', starting with a letter or digit (no '/' or '..')");
+  }
   if (auto v = t->get("description")) m.description = get_string(r, *v, "description", true);
   if (auto v = t->get("baseline")) {
     const std::filesystem::path b = get_string(r, *v, "baseline");
@@ -343,6 +359,9 @@ Manifest load_manifest(const std::filesystem::path& path) {
   m.name = path.stem().string();
   check_keys(r, root, {"suite", "case"}, "the manifest's top level");
   if (auto s = root.get("suite")) parse_suite(r, *s, m);
+  if (!is_plain_name(m.name))
+    r.fail(1, fmt::format("the suite has no plain name (the file name gives '{}')", m.name),
+           "set [suite] name = \"...\" with letters, digits, '.', '_' and '-'");
 
   const toml::node* cases = root.get("case");
   if (!cases)

@@ -1,0 +1,272 @@
+/// A report target is replaced only when it is absent, empty or an mfv report: the data-loss
+/// cases of issue 12 (a user's directory, file, device, link), the lock against a second
+/// writer, dead runs' staging directories, and runs killed by SIGTERM and SIGKILL.
+#include <csignal>
+#include <map>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "methods/core/errors.hpp"
+#include "reports/atomic.hpp"
+#include "tests/temp_files.hpp"
+#include "verify/manifest.hpp"
+
+namespace mfv {
+namespace {
+
+namespace fs = std::filesystem;
+using test::names_in;
+using test::read_file;
+
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("mfv-target") {}
+};
+
+void write_plain(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+/// Every file below `dir` with its content (links as "-> target").
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> s;
+  for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator();
+       ++it) {
+    const auto rel = fs::relative(it->path(), dir).generic_string();
+    if (it->is_symlink()) s[rel] = "-> " + fs::read_symlink(it->path()).string();
+    else if (it->is_regular_file()) s[rel] = read_file(it->path());
+  }
+  return s;
+}
+
+/// A report as mfv writes it: staged, then committed.
+void write_report(const fs::path& target, const std::string& text, bool force = false) {
+  StagedDirectory staged(target, {force, "test"});
+  write_plain(staged.path() / "index.md", text);
+  write_plain(staged.path() / "plots" / "a.svg", "<svg/>");
+  staged.commit();
+}
+
+/// Expects InputError whose message names `path`.
+template <class F>
+void expect_refused(F&& f, const fs::path& path) {
+  try {
+    f();
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReportTarget, AbsentTargetGetsTheReportAndItsMarker) {
+  TempDir dir;
+  const auto target = dir.path() / "reports" / "run";
+  write_report(target, "hello");
+  EXPECT_EQ(read_file(target / "index.md"), "hello");
+  const auto marker = read_report_marker(target);
+  ASSERT_TRUE(marker);
+  EXPECT_EQ(marker->suite, "test");
+  EXPECT_EQ(marker->files, (std::vector<std::string>{"index.md", "plots/a.svg"}));
+  EXPECT_FALSE(marker->time.empty());
+  // No staging directory, old copy or lock file is left beside it.
+  EXPECT_EQ(names_in(target.parent_path()), std::vector<std::string>{"run"});
+}
+
+TEST(ReportTarget, EmptyDirectoryAndEarlierReportAreReplaced) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  fs::create_directory(target);
+  write_report(target, "first");
+  write_report(target, "second");
+  EXPECT_EQ(read_file(target / "index.md"), "second");
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"run"});
+}
+
+TEST(ReportTarget, UserDirectoryIsRefusedEvenWithForce) {
+  TempDir dir;
+  const auto target = dir.path() / "DIR";
+  write_plain(target / "user.txt", "precious");
+  const auto before = snapshot(target);
+  for (bool force : {false, true})
+    expect_refused([&] { write_report(target, "report", force); }, target);
+  EXPECT_EQ(snapshot(target), before);
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"DIR"});
+}
+
+TEST(ReportTarget, ReportWithAddedFilesNeedsForce) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  write_report(target, "first");
+  write_plain(target / "notes.txt", "mine");
+  expect_refused([&] { write_report(target, "second"); }, target);
+  EXPECT_EQ(read_file(target / "notes.txt"), "mine");
+  EXPECT_EQ(read_file(target / "index.md"), "first");
+  write_report(target, "second", /*force=*/true);
+  EXPECT_EQ(read_file(target / "index.md"), "second");
+  EXPECT_FALSE(fs::exists(target / "notes.txt"));
+}
+
+TEST(ReportTarget, NonDirectoriesAreNeverReplaced) {
+  TempDir dir;
+  const auto file = dir.path() / "file";
+  write_plain(file, "user data");
+  const auto fifo = dir.path() / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto outside = dir.path() / "outside";
+  write_plain(outside / "keep.txt", "keep");
+  const auto link = dir.path() / "link";
+  fs::create_directory_symlink(outside, link);
+  const auto dangling = dir.path() / "dangling";
+  fs::create_symlink(dir.path() / "nowhere", dangling);
+  for (const auto& p : {file, fifo, link, dangling})
+    for (bool force : {false, true}) expect_refused([&] { write_report(p, "r", force); }, p);
+  EXPECT_EQ(read_file(file), "user data");
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link)));
+  EXPECT_EQ(snapshot(outside), (std::map<std::string, std::string>{{"keep.txt", "keep"}}));
+  EXPECT_EQ(names_in(dir.path()),
+            (std::vector<std::string>{"dangling", "fifo", "file", "link", "outside"}));
+}
+
+TEST(ReportTarget, DeviceIsRefusedBeforeAnythingIsWritten) {
+  // /dev/null is a character device on every Linux machine: refused before the parent is
+  // touched (no lock file, no staging directory in /dev).
+  expect_refused([] { StagedDirectory staged("/dev/null"); }, "/dev/null");
+  EXPECT_TRUE(fs::is_character_file(fs::symlink_status("/dev/null")));
+  EXPECT_FALSE(fs::exists("/dev/.null.mfv-lock"));
+}
+
+TEST(ReportTarget, DotAndEmptyNamesAreRefused) {
+  for (const char* p : {".", "..", "a/..", ""})
+    EXPECT_THROW(check_report_target(p, false), InputError) << p;
+}
+
+TEST(ReportTarget, SecondWriterIsRefusedUntilTheFirstIsDone) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  {
+    StagedDirectory first(target);
+    try {
+      StagedDirectory second(target);
+      ADD_FAILURE() << "a second writer was let in";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("another mfv run"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_directory(first.path()));  // the refusal did not touch the first
+  }
+  write_report(target, "after");
+  EXPECT_EQ(read_file(target / "index.md"), "after");
+}
+
+TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  write_plain(dir.path() / ".run.staging-999999" / "index.md", "dead run");
+  write_plain(dir.path() / ".run.old-999998" / "index.md", "dead run");
+  write_plain(dir.path() / ".run.staging-notes", "a user's file that only looks like ours");
+  write_plain(dir.path() / ".other.staging-999997" / "index.md", "another target's");
+  write_report(target, "new");
+  EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{".other.staging-999997",
+                                                            ".run.staging-notes", "run"}));
+}
+
+TEST(ReportTarget, CommitChecksTheTargetAgain) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  write_report(target, "first");
+  StagedDirectory staged(target);
+  write_plain(staged.path() / "index.md", "second");
+  write_plain(target / "added-while-running.txt", "mine");  // the user, meanwhile
+  expect_refused([&] { staged.commit(); }, target);
+  EXPECT_EQ(read_file(target / "index.md"), "first");
+  EXPECT_EQ(read_file(target / "added-while-running.txt"), "mine");
+}
+
+/// Forks a child that stages a report of `target` (after install_staging_cleanup when
+/// `cleanup`) and waits; returns its pid once the staging directory is written.
+pid_t stage_in_child(const fs::path& target, bool cleanup) {
+  int ready[2];
+  if (::pipe(ready) != 0) return -1;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(ready[0]);
+    if (cleanup) install_staging_cleanup();
+    StagedDirectory staged(target);
+    write_plain(staged.path() / "index.md", "half-written");
+    const char byte = 1;
+    if (::write(ready[1], &byte, 1) != 1) ::_exit(3);
+    for (;;) ::pause();
+  }
+  ::close(ready[1]);
+  char byte = 0;
+  const bool ok = ::read(ready[0], &byte, 1) == 1;
+  ::close(ready[0]);
+  return ok ? pid : -1;
+}
+
+TEST(ReportTarget, TerminatedRunLeavesThePreviousReportAndNoStaging) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  write_report(target, "previous");
+  const auto before = snapshot(target);
+  const pid_t pid = stage_in_child(target, /*cleanup=*/true);
+  ASSERT_GT(pid, 0);
+  EXPECT_EQ(names_in(dir.path()).size(), 3u);  // run, its lock and the child's staging
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  EXPECT_EQ(snapshot(target), before);
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"run"});
+}
+
+TEST(ReportTarget, KilledRunLeavesThePreviousReportAndTheNextRunCleansUp) {
+  TempDir dir;
+  const auto target = dir.path() / "run";
+  write_report(target, "previous");
+  const auto before = snapshot(target);
+  const pid_t pid = stage_in_child(target, /*cleanup=*/false);
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_EQ(snapshot(target), before);
+  // What a SIGKILL leaves is hidden (dot names) and is ours to remove on the next run.
+  for (const auto& n : names_in(dir.path())) EXPECT_TRUE(n == "run" || n.front() == '.') << n;
+  write_report(target, "next");
+  EXPECT_EQ(read_file(target / "index.md"), "next");
+  EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"run"});
+}
+
+bool starts_with_ours(const std::string& head) { return head.rfind("# ours", 0) == 0; }
+
+TEST(OutputFile, OnlyAbsentOrOwnFilesMayBeWritten) {
+  TempDir dir;
+  const auto p = dir.path() / "out.txt";
+  EXPECT_NO_THROW(check_output_file(p, "output", starts_with_ours));
+  write_plain(p, "# ours\n");
+  EXPECT_NO_THROW(check_output_file(p, "output", starts_with_ours));
+  write_plain(p, "the user's\n");
+  expect_refused([&] { check_output_file(p, "output", starts_with_ours); }, p);
+  expect_refused([&] { check_output_file(dir.path(), "output", starts_with_ours); }, dir.path());
+  expect_refused([] { check_output_file("/dev/null", "output", starts_with_ours); }, "/dev/null");
+}
+
+TEST(SuiteName, IsANameNeverAPath) {
+  TempDir dir;
+  for (const std::string name : {"../victim", "a/b", "/abs", "..", ".hidden", ""}) {
+    const auto m = dir.path() / "m.toml";
+    write_plain(m, "[suite]\nname = \"" + name +
+                       "\"\n[[case]]\nid = \"a\"\nproblem = \"laplace-tanh\"\nmethod = \"fem\"\n"
+                       "nodes = [11]\n");
+    EXPECT_THROW(load_manifest(m), InputError) << name;
+  }
+}
+
+}  // namespace
+}  // namespace mfv
