@@ -1,6 +1,7 @@
 #include "apps/commands.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <optional>
 #include <cmath>
@@ -18,7 +19,9 @@
 #include "reports/study_report.hpp"
 #include "reports/vtk.hpp"
 #include "verify/baseline.hpp"
+#include "verify/ledger.hpp"
 #include "verify/manifest.hpp"
+#include "verify/results_json.hpp"
 #include "verify/runner.hpp"
 
 namespace mfv {
@@ -86,14 +89,49 @@ std::string machine_line(double wall, double cpu) {
                      fmt_seconds(wall), fmt_seconds(cpu));
 }
 
-/// Writes index.md and the sections into a staging directory and swaps it in for `dir`.
+/// Where write_report puts the list of problem sections in a report's head.
+constexpr const char* kProblemsToc = "<!-- mfv: problems toc -->";
+
+/// GitHub's anchor of a Markdown heading: lower case, punctuation dropped, spaces to '-'.
+std::string heading_anchor(const std::string& heading) {
+  std::string out;
+  for (unsigned char ch : heading) {
+    if (ch >= 0x80 || std::isalnum(ch) || ch == '-' || ch == '_') out += static_cast<char>(std::tolower(ch));
+    else if (ch == ' ') out += '-';
+  }
+  return out;
+}
+
+/// Writes index.md (the head, then each section's summary), the files beside it (name →
+/// content, e.g. results.json) and the sections' own files into a staging directory and swaps
+/// it in for `dir`. A kProblemsToc marker in the head becomes a list of links to the
+/// sections' first "## " headings.
 void write_report(const Catalogue& c, const std::filesystem::path& dir, const std::string& head,
-                  const std::vector<ReportSection>& sections, bool vtk) {
+                  const std::vector<ReportSection>& sections, bool vtk,
+                  const std::vector<std::pair<std::string, std::string>>& files = {}) {
   StagedDirectory staged(dir);
+  std::string body, toc;
+  for (const auto& s : sections) {
+    const std::string md = write_problem_section(c, s, staged.path(), vtk);
+    const auto at = md.rfind("## ", 0) == 0 ? 0 : md.find("\n## ");
+    if (at != std::string::npos) {
+      const auto start = at == 0 ? 3 : at + 4;
+      const std::string title = md.substr(start, md.find('\n', start) - start);
+      toc += fmt::format("  - [{}](#{})\n", title, heading_anchor(title));
+    }
+    body += md;
+  }
   std::string md = head;
-  for (const auto& s : sections) md += write_problem_section(c, s, staged.path(), vtk);
+  if (const auto marker = md.find(kProblemsToc); marker != std::string::npos)
+    md.replace(marker, std::string(kProblemsToc).size(), toc);
+  md += body;
+  for (const auto& [name, content] : files) write_file_atomic(staged.path() / name, content);
   write_file_atomic(staged.path() / "index.md", md);
   staged.commit();
+}
+
+RunInfo run_info(const std::string& kind, double wall, double cpu) {
+  return RunInfo{kind, utc_now(), cores(), wall, cpu};
 }
 
 StudyProgress progress_printer(std::ostream& progress, const std::string& prefix) {
@@ -152,12 +190,15 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   const std::filesystem::path dir =
       o.report.empty() ? std::filesystem::path("reports") / slug(spec.problem + "-" + spec.method)
                        : std::filesystem::path(o.report);
+  const double wall = wall_seconds() - wall0, cpu = cpu_seconds() - cpu0;
+  const std::string results = results_json(c, run_info("analysis", wall, cpu), {study}, {});
   std::vector<ReportSection> sections;
   add_to_sections(sections, std::move(study));
   write_report(c, dir,
-               fmt::format("# mfv analysis: {} with {}\n\n{}\n\n", spec.problem, spec.method,
-                           machine_line(wall_seconds() - wall0, cpu_seconds() - cpu0)),
-               sections, false);
+               fmt::format("# mfv analysis: {} with {}\n\n{}\n\nMachine-readable: "
+                           "[results.json](results.json).\n\n",
+                           spec.problem, spec.method, machine_line(wall, cpu)),
+               sections, false, {{"results.json", results}});
   out << fmt::format("report    {}\n", (dir / "index.md").string());
 }
 
@@ -299,16 +340,22 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
       sections.push_back(empty);
     }
     sections.front().failures = failures;
-    std::string head = fmt::format("# mfv comparison: {}\n\n{}\n\n", o.problem,
-                                   machine_line(wall_seconds() - w0, cpu_seconds() - c0));
+    const double wall = wall_seconds() - w0, cpu = cpu_seconds() - c0;
+    const std::string results =
+        results_json(c, run_info(specs.size() == 1 ? "study" : "compare", wall, cpu), done,
+                     failures);
+    std::string head = fmt::format("# mfv comparison: {}\n\n{}\n\nMachine-readable: "
+                                   "[results.json](results.json).\n\n",
+                                   o.problem, machine_line(wall, cpu));
     if (sections.front().studies.empty()) {
       head += "No study could run; see the failures below.\n\n";
       for (const auto& f : failures) head += fmt::format("- {}\n", f);
       StagedDirectory staged(o.report);
+      write_file_atomic(staged.path() / "results.json", results);
       write_file_atomic(staged.path() / "index.md", head);
       staged.commit();
     } else {
-      write_report(c, o.report, head, sections, o.vtk);
+      write_report(c, o.report, head, sections, o.vtk, {{"results.json", results}});
     }
     out << fmt::format("report: {}/index.md\n", o.report);
   }
@@ -335,6 +382,9 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   }
   const Baseline baseline =
       manifest.baseline.empty() ? Baseline{} : load_baseline(manifest.baseline);
+  // The ledger is checked before the first case runs too (its rows name cases and values).
+  std::optional<Ledger> ledger;
+  if (!manifest.ledger.empty()) ledger = load_ledger(manifest.ledger, manifest, c);
 
   const double w0 = wall_seconds(), c0 = cpu_seconds();
   struct Outcome {
@@ -409,10 +459,13 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // Verdicts: a band violation, a case that could not run or a number worse than the
   // baseline fails; a better number only asks for --update-baseline.
   int failed = 0;
-  MarkdownTable verdicts({"case", "problem", "method", "nodes", "L2 rate", "H1 rate", "bands",
-                          "baseline", "verdict"},
-                         {'l', 'l', 'l', 'l', 'r', 'r', 'l', 'l', 'l'});
+  // Rates by norm name: the energy norm exists only for vector (2D) problems; in 1D it is
+  // the H1 seminorm.
+  MarkdownTable verdicts({"case", "problem", "method", "nodes", "L2 rate", "H1-seminorm rate",
+                          "energy rate", "bands", "baseline", "verdict"},
+                         {'l', 'l', 'l', 'l', 'r', 'r', 'r', 'l', 'l', 'l'});
   std::vector<std::string> messages;
+  std::vector<VerifyCaseJson> case_json;
   for (const auto& oc : outcomes) {
     const auto worse = std::count_if(oc.drifts.begin(), oc.drifts.end(),
                                      [](const Drift& d) { return d.worse; });
@@ -427,18 +480,32 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                              : o.update_baseline      ? "updated"
                              : oc.drifts.empty()      ? "unchanged"
                                                       : fmt::format("{} drift(s)", oc.drifts.size());
+    const bool vector_field = oc.study && !oc.study->cases.empty() &&
+                              oc.study->cases.front().components > 1;
+    const std::string bands_state =
+        oc.error.empty()
+            ? (oc.bands.empty() ? "inside" : fmt::format("{} violated", oc.bands.size()))
+            : "not run";
     verdicts.add_row(
         {oc.mc->id, oc.mc->problem, oc.mc->method, fmt::format("{}", fmt::join(nodes, ",")),
          oc.study ? fmt_rate(oc.study->rates.l2) : "–",
          oc.study ? fmt_rate(oc.study->rates.h1_semi) : "–",
-         oc.error.empty() ? (oc.bands.empty() ? "inside" : fmt::format("{} violated",
-                                                                       oc.bands.size()))
-                          : "not run",
-         base_state, ok ? "PASS" : "FAIL"});
+         vector_field ? fmt_rate(oc.study->rates.energy) : "–", bands_state, base_state,
+         ok ? "PASS" : "FAIL"});
+    VerifyCaseJson cj{oc.mc->id, oc.mc->problem, oc.mc->method, resolutions(*oc.mc, o.full),
+                      bands_state, base_state, ok ? "PASS" : "FAIL", {},
+                      oc.study ? &*oc.study : nullptr, oc.error};
     if (!oc.error.empty()) messages.push_back(fmt::format("{}: could not run: {}", oc.mc->id,
                                                           oc.error));
-    for (const auto& b : oc.bands) messages.push_back(b.message);
-    for (const auto& d : oc.drifts) messages.push_back(d.message);
+    for (const auto& b : oc.bands) {
+      messages.push_back(b.message);
+      cj.messages.push_back(b.message);
+    }
+    for (const auto& d : oc.drifts) {
+      messages.push_back(d.message);
+      cj.messages.push_back(d.message);
+    }
+    case_json.push_back(std::move(cj));
   }
 
   out << verdicts.str();
@@ -450,6 +517,16 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                   : fmt::format("FAIL: {} of {} case(s) of suite '{}' failed (see above)",
                                 failed, outcomes.size(), manifest.name);
   out << summary << "\n";
+
+  // Reproduction, computed from the same run and shown apart from the regression verdict.
+  std::vector<LedgerEntry> entries;
+  if (ledger) {
+    std::map<std::string, CaseOutcome> ran;
+    for (const auto& oc : outcomes)
+      ran[oc.mc->id] = CaseOutcome{oc.study ? &*oc.study : nullptr, oc.error};
+    entries = evaluate_ledger(*ledger, c, manifest, ran);
+    out << fmt::format("Ledger ({}): {}\n", ledger->path.string(), verdict_counts_line(entries));
+  }
 
   if (o.update_baseline && !manifest.baseline.empty()) {
     if (o.full) {
@@ -467,9 +544,49 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                          : std::filesystem::path(o.report);
     std::string head = fmt::format("# mfv verification report: {}\n\n", manifest.name);
     if (!manifest.description.empty()) head += manifest.description + "\n\n";
-    head += fmt::format("Manifest `{}`{}. {}\n\n**{}**\n\n## Verdict per case\n\n{}\n",
-                        o.manifest, o.full ? " (`--full` resolutions)" : "",
-                        machine_line(wall, cpu), summary, verdicts.str());
+    // 1. Summary: reproduction and regression apart, so that "no regression" is never read
+    // as "the papers are reproduced".
+    MarkdownTable summary_table({"", ""}, {'l', 'l'});
+    summary_table.add_row({"**reproduction** of the papers (ledger)",
+                           ledger ? verdict_counts_line(entries)
+                                  : "no ledger: the manifest names none ([suite] ledger)"});
+    summary_table.add_row({"**regression** against bands and baseline", summary});
+    summary_table.add_row({"machine", fmt::format("{} cores", cores())});
+    summary_table.add_row({"time", fmt::format("wall {}, CPU {} (finished {})", fmt_seconds(wall),
+                                               fmt_seconds(cpu), utc_now())});
+    summary_table.add_row({"manifest", fmt::format("`{}`{}", o.manifest,
+                                                   o.full ? " (`--full` resolutions)" : "")});
+    head += "## Summary\n\n" + summary_table.str() +
+            "\nRegression PASS means our numbers stayed inside the manifest's bands and the "
+            "recorded baseline; it says nothing about the papers. Whether a paper's claim is "
+            "reproduced is the ledger's verdict, computed from this run against the tolerance "
+            "each row states.\n\n";
+    // 2. Contents.
+    head += "## Contents\n\n";
+    if (ledger) head += "- [Reproduction ledger](#reproduction-ledger)\n";
+    head += fmt::format("- [Regression verdict per case](#regression-verdict-per-case)\n"
+                        "- Problems\n{}\n",
+                        kProblemsToc);
+    head += "Machine-readable: [results.json](results.json) (every case, the regression "
+            "verdicts and the ledger; schema in docs/results-schema.md)";
+    if (ledger) head += ", [ledger.csv](ledger.csv), [ledger.json](ledger.json)";
+    head += ".\n\n";
+    // 3. The ledger.
+    if (ledger)
+      head += fmt::format(
+          "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). Verdicts: "
+          "**reproduced** (within the row's tolerance), **reproduced under a stated reading** "
+          "(the reading is in the last column), **partly** (within three times the tolerance, "
+          "or some of the row's values), **not reproduced** (the gap and the best reason), "
+          "**not reached** (the run gave no finite value), **not run** (its case was not "
+          "selected), **not yet built** (the problem or check does not exist yet). Ratio = "
+          "ours / paper.\n\n{}\n",
+          ledger->path.filename().string(), ledger_markdown(entries));
+    // 4. Regression.
+    head += fmt::format("## Regression verdict per case\n\n**{}**\n\nRates are "
+                        "least-squares slopes on the common rule, by norm: L2, H1 seminorm, "
+                        "and the energy norm (2D problems only).\n\n{}\n",
+                        summary, verdicts.str());
     if (!messages.empty()) {
       head += "Messages:\n\n";
       for (const auto& m : messages) head += fmt::format("- {}\n", m);
@@ -479,7 +596,15 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       for (const auto& oc : outcomes)
         if (!oc.error.empty() && oc.mc->problem == s.problem)
           s.failures.push_back(fmt::format("{}: {}", oc.mc->id, oc.error));
-    write_report(c, dir, head, sections, o.vtk);
+    std::vector<std::pair<std::string, std::string>> files = {
+        {"results.json",
+         verify_results_json(c, run_info("verify", wall, cpu), manifest.name, o.manifest, o.full,
+                             case_json, ledger ? &*ledger : nullptr, entries)}};
+    if (ledger) {
+      files.emplace_back("ledger.csv", ledger_csv(entries));
+      files.emplace_back("ledger.json", ledger_json_text(*ledger, entries));
+    }
+    write_report(c, dir, head, sections, o.vtk, files);
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
   return failed == 0 ? 0 : 1;

@@ -8,7 +8,6 @@
 #include <toml++/toml.h>
 
 #include "methods/core/errors.hpp"
-#include "reports/markdown.hpp"
 #include "reports/study_report.hpp"
 #include "verify/catalogue.hpp"
 #include "verify/manifest.hpp"
@@ -462,7 +461,8 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
         }
         if (!not_run.empty()) {
           e.verdict = kNotRun;
-          e.why = fmt::format("case(s) {} did not run in this invocation", fmt::join(not_run, ", "));
+          e.why = not_run.size() == 1 ? fmt::format("case {} did not run in this invocation", not_run[0])
+                                      : fmt::format("{} of its cases did not run in this invocation", not_run.size());
           e.ours = {NAN};
           break;
         }
@@ -553,6 +553,25 @@ std::string tolerance_text(const LedgerEntry& e) {
 }
 
 std::string comparison_text(const LedgerEntry& e) {
+  // Several values: the range of ratios (or differences), which is what the verdict reads.
+  if (e.compared.size() > 2) {
+    double lo = INFINITY, hi = -INFINITY;
+    int finite = 0;
+    for (const auto& c : e.compared) {
+      const double v = e.row->compare == CompareBy::ratio ? c.ratio : c.difference;
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      ++finite;
+    }
+    if (finite == 0) return "–";
+    const std::string range = e.row->compare == CompareBy::ratio
+                                  ? fmt::format("{:.3g} to {:.3g}", lo, hi)
+                                  : fmt::format("{:+.3g} to {:+.3g}", lo, hi);
+    return finite < static_cast<int>(e.compared.size())
+               ? fmt::format("{} ({} of {} values)", range, finite, e.compared.size())
+               : range;
+  }
   std::vector<std::string> parts;
   for (const auto& c : e.compared) {
     if (e.row->compare == CompareBy::ratio && std::isfinite(c.ratio))
@@ -590,16 +609,38 @@ std::string case_text(const LedgerRow& row) {
 }  // namespace
 
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
-  MarkdownTable t({"id", "source", "claim", "measured by", "paper", "ours", "ratio / diff.",
-                   "tolerance", "verdict", "gap, reason"},
-                  {'l', 'l', 'l', 'l', 'r', 'r', 'r', 'l', 'l', 'l'});
+  // Unpadded rows: the ledger is the report's longest table and padding would triple it.
+  auto cell = [](const std::string& text) {
+    std::string out;
+    for (char ch : text) {
+      if (ch == '|') out += "\\|";
+      else if (ch == '\n') out += ' ';
+      else out += ch;
+    }
+    return out.empty() ? std::string("–") : out;
+  };
+  std::string md =
+      "| id | source | claim | measured by | paper | ours | ours/paper (or −) | tolerance | "
+      "verdict | reason, reading |\n|:--|:--|:--|:--|--:|--:|--:|:--|:--|:--|\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
-    t.add_row({row.id, (row.source), (row.claim), (case_text(row)),
-               paper_text(e), (ours_text(e)), comparison_text(e),
-               (tolerance_text(e)), "**" + e.verdict + "**", (e.why)});
+    std::string by = case_text(row);
+    if (row.cases.size() > 2) by = fmt::format("{} and {} more", row.cases.front(), row.cases.size() - 1);
+    std::string why = e.why;
+    if (e.verdict != kReproduced && e.verdict != kReproducedReading &&
+        e.verdict != kNotRun && e.verdict != kNotYetBuilt) {
+      // The gap is in the ratio column; the reason here.
+      std::vector<std::string> parts;
+      if (!row.reason.empty()) parts.push_back(row.reason);
+      if (!row.reading.empty()) parts.push_back("reading: " + row.reading);
+      why = fmt::format("{}", fmt::join(parts, "; "));
+    }
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | **{}** | {} |\n", cell(row.id),
+                      cell(row.source), cell(row.claim), cell(by), cell(paper_text(e)),
+                      cell(ours_text(e)), cell(comparison_text(e)), cell(tolerance_text(e)),
+                      e.verdict, cell(why));
   }
-  return t.str();
+  return md;
 }
 
 std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
