@@ -433,11 +433,15 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
           break;
         }
         std::vector<std::string> missing;
+        bool computed = false;  // whether any case of the study has the quantity at all
         for (std::size_t i = 0; i < row.nodes.size(); ++i) {
           double ours = NAN;
           if (it->second.study)
-            for (const auto& r : it->second.study->cases)
+            for (const auto& r : it->second.study->cases) {
+              computed = computed || row.quantity == "error u" ||
+                         row.quantity == "error du/dx" || r.headline.count(row.quantity) > 0;
               if (r.spec.nodes == row.nodes[i]) ours = our_published_value(r, row.quantity);
+            }
           if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
           e.ours.push_back(ours);
           e.compared.push_back(compare_value(ours, row.paper[i], row.tolerance, row.compare));
@@ -445,6 +449,8 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
         e.verdict = combine(e.compared);
         if (!it->second.study)
           e.why = fmt::format("case {} could not run: {}", row.cases[0], it->second.error);
+        else if (!computed)
+          e.why = fmt::format("case {} computes no '{}'", row.cases[0], row.quantity);
         else if (!missing.empty())
           e.why = fmt::format("no finite value at {} nodes", fmt::join(missing, ", "));
         break;
