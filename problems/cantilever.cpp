@@ -56,14 +56,14 @@ std::vector<Finding> cantilever_findings() {
                  return {best ? "reproduced" : "not reproduced",
                          fmt::format("efg-ci L2/energy {:.1e}/{:.1e}{}", ci[0]->l2_rel_finest,
                                      ci[0]->energy_rel_finest, worse)};
-               }});
+               }, "efg-ci-best"});
   f.push_back({"001 §9.1", "KBM with stress points: displacement rate close to 2",
                "kbm-si L2 rate in [1.7, 2.3]", [](const std::vector<StudySummary>& all) -> Verdict {
                  const auto k = of(all, "kbm-si");
                  if (k.empty()) return not_run("kbm-si");
                  const bool ok = k[0]->l2_rate >= 1.7 && k[0]->l2_rate <= 2.3;
                  return {ok ? "reproduced" : "not reproduced", describe(*k[0])};
-               }});
+               }, "kbm-si-rate"});
   f.push_back({"001 §9.1",
                "EFG ni and KBM si converge a little slower than EFG ci, with larger errors",
                "each has an L2 rate within 0.5 below efg-ci's (or above it) and a larger finest "
@@ -85,7 +85,7 @@ std::vector<Finding> cantilever_findings() {
                  if (n == 0) return not_run("efg-ni or kbm-si");
                  return {ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced",
                          fmt::format("efg-ci rate {:.2f}; {}", ci[0]->l2_rate, text)};
-               }});
+               }, "efg-ni-kbm-si-slower"});
   f.push_back({"001 §9.1", "RLM and KBM with nodal integration yield poor results",
                "rlm and kbm-ni: finest L2 error at least 10× efg-ci's or L2 rate below 1",
                [](const std::vector<StudySummary>& all) -> Verdict {
@@ -102,7 +102,7 @@ std::vector<Finding> cantilever_findings() {
                    }
                  if (n == 0) return not_run("rlm or kbm-ni");
                  return {ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced", text};
-               }});
+               }, "rlm-kbm-ni-poor"});
   f.push_back({"001 §9.1", "SPH does not converge at all (support shrinking with the spacing)",
                "sph L2 rate below 0.5 or finest L2 error above 5%",
                [](const std::vector<StudySummary>& all) -> Verdict {
@@ -110,7 +110,7 @@ std::vector<Finding> cantilever_findings() {
                  if (s.empty()) return not_run("sph");
                  const bool ok = s[0]->l2_rate < 0.5 || s[0]->l2_rel_finest > 0.05;
                  return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
-               }});
+               }, "sph-no-convergence"});
   f.push_back({"001 §9.1, Fig. 7", "SPH converges when the support is held constant",
                "sph with a fixed radius: L2 rate above 0.5 and finest L2 error below the coarsest",
                [](const std::vector<StudySummary>& all) -> Verdict {
@@ -118,7 +118,7 @@ std::vector<Finding> cantilever_findings() {
                  if (s.empty()) return not_run("sph with radius=");
                  const bool ok = s[0]->l2_rate > 0.5;
                  return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
-               }});
+               }, "sph-constant-support"});
   return f;
 }
 

@@ -266,7 +266,7 @@ std::vector<Finding> Dispersion::findings() const {
          }
          if (yes + no == 0) return {"not run", "no nodal Lagrangian study"};
          return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
-       }});
+       }, "nodal-zero-mode"});
   f.push_back(
       {"000 §3.1.1, Fig. 5", "Lagrangian kernel: unstable exactly when C̄ = C + σ ≤ 0, as the continuum",
        "Lagrangian line studies: unstable iff σ̄ ≤ −1; the σ̄-κ map's lower bound is −1 at every κ",
@@ -283,7 +283,7 @@ std::vector<Finding> Dispersion::findings() const {
          }
          if (right + wrong == 0) return {"not run", "no Lagrangian line study"};
          return {wrong == 0 ? "reproduced" : "not reproduced", ours};
-       }});
+       }, "lagrangian-continuum"});
   f.push_back(
       {"000 §3.1.2, Fig. 3", "Eulerian kernel in tension: tensile instability above κ ≈ 0.6π/Δx at σ̄ = 1, D_mx = 1.5; the onset falls as σ̄ grows",
        "kbm-ni quartic spline D_mx 1.5, Eulerian, σ̄ = 1: unstable with onset within 0.15 of 0.6; a larger σ̄ has a lower onset",
@@ -302,7 +302,7 @@ std::vector<Finding> Dispersion::findings() const {
          const bool near = std::abs(onset - 0.6) <= 0.15;
          return {near && falls ? "reproduced" : std::isfinite(onset) ? "partly" : "not reproduced",
                  ours};
-       }});
+       }, "eulerian-tensile-onset"});
   f.push_back(
       {"000 §3.2, Fig. 7", "1D stress points: ω > 0 at the cut-off κ = π/Δx, falling as D_mx grows, higher for the exponential than the quartic weight",
        "Lagrangian kbm-si line studies: cut-off ω > 0 for every D_mx, decreasing in D_mx per kernel, exponential above quartic at equal D_mx",
@@ -330,7 +330,7 @@ std::vector<Finding> Dispersion::findings() const {
              if (cut["quartic-spline"].count(d) && !(w > cut["quartic-spline"][d])) exp_above = false;
          const int ok = positive + falling + exp_above;
          return {ok == 3 ? "reproduced" : ok == 0 ? "not reproduced" : "partly", ours};
-       }});
+       }, "stress-points-cutoff"});
   f.push_back(
       {"000 §4.2.1, Fig. 11", "2D stress points: quadrilateral centres leave a spurious mode at θ = 45° (zone corner); triangle centres remove it",
        "Lagrangian kbm-si rectangular studies: quad-centres has a spurious mode at θ = 45°, triangle-centres none",
@@ -344,7 +344,7 @@ std::vector<Finding> Dispersion::findings() const {
              q ? fmt::format("zero at κ = {:.3f} π/Δx", head(*quad.front(), kSpuriousKappa)) : "no zero",
              t ? fmt::format("zero at κ = {:.3f} π/Δx", head(*tri.front(), kSpuriousKappa)) : "no zero");
          return {q && !t ? "reproduced" : q || !t ? "partly" : "not reproduced", ours};
-       }});
+       }, "quad-centres-spurious"});
   f.push_back(
       {"000 §4.2.2, Fig. 12", "2D Eulerian kernel with stress points stays tensile-unstable (σ̄ = 2)",
        "Eulerian kbm-si 2D studies at σ̄ = 2 are unstable",
@@ -361,7 +361,7 @@ std::vector<Finding> Dispersion::findings() const {
          }
          if (yes + no == 0) return {"not run", "no 2D Eulerian kbm-si study at σ̄ = 2"};
          return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
-       }});
+       }, "eulerian-2d-unstable"});
   return f;
 }
 

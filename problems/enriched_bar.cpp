@@ -468,7 +468,7 @@ class EnrichedBar final : public Problem {
            const double v = lowest(ss, "min dt ratio consistent");
            if (std::isnan(v)) return Verdict{"not run", ""};
            return Verdict{v > 0.1 ? "reproduced" : "not reproduced", fmt::format("{:.3f}", v)};
-         }},
+         }, "consistent-nonzero"},
         {"003 §4.3.1, §5", "MLS1 drops the step to 30-45 % of the uncracked one",
          "min dt ratio MLS1 within [0.2, 0.55]",
          [lowest](const std::vector<StudySummary>& ss) {
@@ -477,7 +477,7 @@ class EnrichedBar final : public Problem {
            const bool in = v >= 0.2 && v <= 0.55;
            return Verdict{in ? "reproduced" : v < 0.2 ? "not reproduced" : "partly",
                           fmt::format("{:.3f}", v)};
-         }},
+         }, "mls1-drop"},
         {"003 §4.3.2, §5", "MLS2 keeps at least about 84 % of the uncracked step",
          "min dt ratio MLS2 >= 0.8",
          [lowest](const std::vector<StudySummary>& ss) {
@@ -485,7 +485,7 @@ class EnrichedBar final : public Problem {
            if (std::isnan(v)) return Verdict{"not run", ""};
            return Verdict{v >= 0.8 ? "reproduced" : v >= 0.6 ? "partly" : "not reproduced",
                           fmt::format("{:.3f}", v)};
-         }},
+         }, "mls2-keeps"},
     };
   }
 

@@ -94,28 +94,28 @@ std::vector<Finding> prestressed_rod_findings() {
                [](const std::vector<StudySummary>& all) {
                  return expect(of(all, "kbm-ni", 1.5, "eulerian", 0.1), true,
                                "kbm-ni dmax=1.5 frame=eulerian sigma=0.1");
-               }});
+               }, "eulerian-unstable"});
   f.push_back({"000 §5.1, Fig. 13",
                "Lagrangian kernel, nodal integration, D_mx = 1.5, σ̄ = 0.1: no tensile instability",
                "kbm-ni dmax=1.5 frame=lagrangian sigma=0.1 stable: " + criterion,
                [](const std::vector<StudySummary>& all) {
                  return expect(of(all, "kbm-ni", 1.5, "lagrangian", 0.1), false,
                                "kbm-ni dmax=1.5 frame=lagrangian sigma=0.1");
-               }});
+               }, "lagrangian-stable"});
   f.push_back({"000 §5.1",
                "Eulerian kernel, nodal integration, D_mx = 2.5: stable at σ̄ = 0.1",
                "kbm-ni dmax=2.5 frame=eulerian sigma=0.1 stable: " + criterion,
                [](const std::vector<StudySummary>& all) {
                  return expect(of(all, "kbm-ni", 2.5, "eulerian", 0.1), false,
                                "kbm-ni dmax=2.5 frame=eulerian sigma=0.1");
-               }});
+               }, "dmax2.5-stable"});
   f.push_back({"000 §5.1",
                "Eulerian kernel, nodal integration, D_mx = 2.5: unstable again at σ̄ = 0.16",
                "kbm-ni dmax=2.5 frame=eulerian sigma=0.16 unstable: " + criterion,
                [](const std::vector<StudySummary>& all) {
                  return expect(of(all, "kbm-ni", 2.5, "eulerian", 0.16), true,
                                "kbm-ni dmax=2.5 frame=eulerian sigma=0.16");
-               }});
+               }, "dmax2.5-unstable-s0.16"});
   f.push_back({"000 §5.1",
                "Stress points remove the instability for σ̄ ∈ [0, 1] (Lagrangian and Eulerian "
                "kernels, D_mx = 1.5)",
@@ -129,7 +129,7 @@ std::vector<Finding> prestressed_rod_findings() {
                      if (sigma >= 0 && sigma <= 1) si.push_back(s);
                    }
                  return expect(si, false, "kbm-si dmax=1.5 with sigma in [0, 1]");
-               }});
+               }, "stress-points-stable"});
   return f;
 }
 

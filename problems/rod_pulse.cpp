@@ -243,6 +243,7 @@ class RodPulse final : public Problem {
       return std::pair{static_cast<double>(NAN), 0};
     };
     Finding ranking;
+    ranking.id = "ranking";
     ranking.source = "001 §9.2, Table 3";
     ranking.claim = "SPH has the largest velocity error (about 5%), EFG ci the smallest; KBM si "
                     "and EFG ni are close to each other";

@@ -313,7 +313,7 @@ std::vector<Finding> StretchMap::findings() const {
          }
          if (yes + no == 0) return {"not run", "no stretch-map study with the Lagrangian frame"};
          return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
-       }});
+       }, "lagrangian-pde"});
   f.push_back(
       {"001 §3.1, Fig. 1(b)",
        "Eulerian kernel: a substantial region of states where the PDE is stable and the "
@@ -341,7 +341,7 @@ std::vector<Finding> StretchMap::findings() const {
          }
          if (yes + no == 0) return {"not run", "no stretch-map study with the Eulerian frame"};
          return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
-       }});
+       }, "eulerian-unstable-region"});
   return f;
 }
 

@@ -7,9 +7,10 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libgsl-dev libvtk9-dev
   libgtest-dev libbenchmark-dev
-  libnanoflann-dev libcli11-dev libtomlplusplus-dev libfmt-dev
+  libnanoflann-dev libcli11-dev libtomlplusplus-dev libfmt-dev nlohmann-json3-dev
   voro++-dev libsuitesparse-dev libspectra-dev
   gnuplot-nox
+  python3-jsonschema
 )
 
 missing=()

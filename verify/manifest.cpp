@@ -293,7 +293,7 @@ bool is_plain_name(const std::string& s) {
 
 void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   static const std::vector<std::string> kKeys = {"name", "description", "baseline",
-                                                 "drift_tolerance", "drift_floor"};
+                                                 "drift_tolerance", "drift_floor", "ledger"};
   const auto* t = n.as_table();
   if (!t)
     r.fail(line_of(n), fmt::format("'suite' must be a table, got {}", type_name(n)),
@@ -310,6 +310,10 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   if (auto v = t->get("baseline")) {
     const std::filesystem::path b = get_string(r, *v, "baseline");
     m.baseline = b.is_absolute() ? b : m.path.parent_path() / b;
+  }
+  if (auto v = t->get("ledger")) {
+    const std::filesystem::path l = get_string(r, *v, "ledger");
+    m.ledger = l.is_absolute() ? l : m.path.parent_path() / l;
   }
   if (auto v = t->get("drift_tolerance")) {
     m.drift_tolerance = get_number(r, *v, "drift_tolerance");

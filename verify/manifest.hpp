@@ -9,6 +9,9 @@
 //                                             # omitted: no baseline, no drift checks
 //   drift_tolerance = 0.05                    # relative; > 0; a number that moves more is flagged
 //   drift_floor = 1e-12                       # absolute, >= 0: errors below it are round-off
+//   ledger = "ledger.toml"                    # relative to the manifest's directory: the
+//                                             # reproduction ledger (verify/ledger.hpp) whose
+//                                             # verdicts open the report; omitted: none
 //
 //   [[case]]                                  # one per case, at least one
 //   id = "laplace-tanh/fem"                   # required, unique, no white space (a CTest name)
@@ -71,6 +74,7 @@ struct Manifest {
   std::filesystem::path path;      ///< as given to load_manifest (used in messages)
   std::string name, description;
   std::filesystem::path baseline;  ///< resolved against the manifest's directory; empty: none
+  std::filesystem::path ledger;    ///< likewise: the reproduction ledger; empty: none
   double drift_tolerance = 0.05, drift_floor = 1e-12;
   std::vector<ManifestCase> cases;  ///< in file order
 

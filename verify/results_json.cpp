@@ -1,0 +1,296 @@
+#include "verify/results_json.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "verify/catalogue.hpp"
+
+namespace mfv {
+
+using nlohmann::json;
+
+json JsonNumbers::number(double x, const std::string& pointer, const std::string& why) {
+  if (std::isfinite(x)) return x;
+  nulls_[pointer] = fmt::format("{}: {}", std::isnan(x) ? "NaN" : x > 0 ? "+inf" : "-inf", why);
+  return nullptr;
+}
+
+json JsonNumbers::absent(const std::string& pointer, const std::string& why) {
+  nulls_[pointer] = why;
+  return nullptr;
+}
+
+namespace {
+
+json params_json(const Params& p) {
+  json out = json::object();
+  for (const auto& [k, v] : p.values()) {
+    if (const double* d = std::get_if<double>(&v)) {
+      if (std::isfinite(*d)) out[k] = *d;
+      else out[k] = format_value(v);  // a parameter is input: keep what was given, as text
+    } else {
+      out[k] = std::get<std::string>(v);
+    }
+  }
+  return out;
+}
+
+/// JSON pointer escaping of one reference token (RFC 6901).
+std::string token(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+/// What a case measured: static problems every norm; transient runs only the relative L2
+/// error of their main field (at the last checkpoint); analyses no field error at all.
+enum class Measured { static_solve, transient, analysis };
+
+Measured measured(const CaseResult& r) {
+  if (r.transient.steps > 0) return Measured::transient;
+  if (!r.analysis.empty()) return Measured::analysis;
+  return Measured::static_solve;
+}
+
+json norms_json(const ErrorNorms& e, int components, Measured m, const std::string& at,
+                JsonNumbers& n) {
+  constexpr const char* kUndefined = "undefined (a zero or non-finite exact norm, or a blow-up)";
+  auto pair = [&](const char* name, double abs, double rel) {
+    const std::string p = at + "/" + name;
+    if (m == Measured::analysis)
+      return json{{"absolute", n.absent(p + "/absolute", "an analysis computes no field error")},
+                  {"relative", n.absent(p + "/relative", "an analysis computes no field error")}};
+    if (m == Measured::transient) {
+      const char* why = "a transient run measures only the relative L2 error of its main field";
+      return json{{"absolute", n.absent(p + "/absolute", why)},
+                  {"relative", std::string(name) == "l2" ? n.number(rel, p + "/relative", kUndefined)
+                                                         : n.absent(p + "/relative", why)}};
+    }
+    return json{{"absolute", n.number(abs, p + "/absolute", kUndefined)},
+                {"relative", n.number(rel, p + "/relative", kUndefined)}};
+  };
+  json out = {{"l2", pair("l2", e.l2, e.l2_rel)},
+              {"h1_seminorm", pair("h1_seminorm", e.h1_semi, e.h1_semi_rel)},
+              {"h1", pair("h1", e.h1, e.h1_rel)}};
+  // 1D problems have no separate energy norm (it is the H1 seminorm); 2D ones do.
+  if (components > 1) out["energy"] = pair("energy", e.energy, e.energy_rel);
+  return out;
+}
+
+json rates_json(const Rates& r, int components, Measured m, const std::string& at,
+                JsonNumbers& n) {
+  constexpr const char* kWhy = "fewer than two resolutions with finite, non-zero errors";
+  auto one = [&](const char* name, double ls, const std::vector<double>& pw) {
+    const std::string p = at + "/" + name;
+    json pairwise = json::array();
+    const bool measured = m == Measured::static_solve ||
+                          (m == Measured::transient && std::string(name) == "l2");
+    if (!measured)
+      return json{{"least_squares", n.absent(p + "/least_squares", "no such error is measured")},
+                  {"pairwise", pairwise}};
+    for (std::size_t i = 0; i < pw.size(); ++i)
+      pairwise.push_back(n.number(pw[i], fmt::format("{}/pairwise/{}", p, i), kWhy));
+    return json{{"least_squares", n.number(ls, p + "/least_squares", kWhy)},
+                {"pairwise", pairwise}};
+  };
+  json out = {{"l2", one("l2", r.l2, r.l2_pairwise)},
+              {"h1_seminorm", one("h1_seminorm", r.h1_semi, r.h1_semi_pairwise)}};
+  if (components > 1) out["energy"] = one("energy", r.energy, r.energy_pairwise);
+  return out;
+}
+
+json run_json(const RunInfo& run) {
+  return {{"kind", run.kind},
+          {"generated_utc", run.generated_utc},
+          {"machine", {{"cores", run.cores}}},
+          {"wall_seconds", run.wall_seconds},
+          {"cpu_seconds", run.cpu_seconds}};
+}
+
+}  // namespace
+
+json study_json(const Catalogue& catalogue, const StudyResult& study, const std::string& at,
+                JsonNumbers& n) {
+  json out = json::object();
+  out["label"] = study.label;
+  if (study.cases.empty()) return out;
+  const CaseResult& first = study.cases.front();
+  const int comps = first.components;
+  out["problem"] = first.spec.problem;
+  out["problem_params"] = params_json(first.spec.problem_params);
+  out["method"] = first.spec.method;
+  out["method_params"] = params_json(first.method_params);
+  out["method_description"] = first.method_description;
+  out["dim"] = first.dim;
+  out["components"] = comps;
+  out["resolution_name"] = catalogue.problems.contains(first.spec.problem)
+                               ? catalogue.problems.create(first.spec.problem,
+                                                           first.spec.problem_params)
+                                     ->resolution_name()
+                               : "nodes";
+  out["perturbation"] = first.spec.perturbation;
+  json resolutions = json::array();
+  for (std::size_t i = 0; i < study.cases.size(); ++i) {
+    const CaseResult& r = study.cases[i];
+    const std::string p = fmt::format("{}/resolutions/{}", at, i);
+    json res = {{"nodes", r.spec.nodes},
+                {"particles", r.particles},
+                {"h", n.number(r.h, p + "/h", "no particle spacing")},
+                {"quadrature_points", r.quadrature_points}};
+    const Measured m = measured(r);
+    res["errors"] = {{"common", norms_json(r.errors, comps, m, p + "/errors/common", n)},
+                     {"paper", norms_json(r.errors_paper, comps, m, p + "/errors/paper", n)}};
+    json headline = json::object();
+    for (const auto& [k, v] : r.headline)
+      headline[k] = n.number(v, p + "/headline/" + token(k),
+                             "the run did not reach or could not define it");
+    res["headline"] = headline;
+    res["cpu_seconds"] = {{"setup", n.number(r.cpu.setup, p + "/cpu_seconds/setup", "not timed")},
+                          {"assembly", n.number(r.cpu.assembly, p + "/cpu_seconds/assembly", "not timed")},
+                          {"solve", n.number(r.cpu.solve, p + "/cpu_seconds/solve", "not timed")},
+                          {"total", n.number(r.cpu.total(), p + "/cpu_seconds/total", "not timed")}};
+    if (!r.solve.solver.empty())
+      res["solver"] = {{"name", r.solve.solver},
+                       {"unknowns", r.solve.unknowns},
+                       {"nonzeros", r.solve.nonzeros},
+                       {"residual", n.number(r.solve.residual, p + "/solver/residual", "no solve")},
+                       {"rcond", n.number(r.solve.rcond, p + "/solver/rcond", "not estimated by this solver")},
+                       {"condition", n.number(r.solve.condition, p + "/solver/condition",
+                                             "not computed (dense SVD only up to 1,200 "
+                                             "unknowns) or singular")}};
+    if (r.transient.steps > 0)
+      res["transient"] = {{"dt", n.number(r.transient.dt, p + "/transient/dt", "no step")},
+                          {"dt_critical",
+                           n.number(r.transient.dt_critical, p + "/transient/dt_critical", "not estimated")},
+                          {"end_time", n.number(r.transient.end_time, p + "/transient/end_time", "not reached")},
+                          {"steps", r.transient.steps},
+                          {"dynamics", r.transient.dynamics}};
+    res["verdicts"] = r.analysis.verdicts;
+    resolutions.push_back(std::move(res));
+  }
+  out["resolutions"] = std::move(resolutions);
+  const Measured m = measured(first);
+  out["rates"] = {{"common", rates_json(study.rates, comps, m, at + "/rates/common", n)},
+                  {"paper", rates_json(study.rates_paper, comps, m, at + "/rates/paper", n)}};
+  return out;
+}
+
+std::string results_json(const Catalogue& catalogue, const RunInfo& run,
+                         const std::vector<StudyResult>& studies,
+                         const std::vector<std::string>& failures) {
+  JsonNumbers n;
+  json doc = {{"schema", kResultsSchema}, {"run", run_json(run)}};
+  json list = json::array();
+  for (std::size_t i = 0; i < studies.size(); ++i)
+    list.push_back(study_json(catalogue, studies[i], fmt::format("/studies/{}", i), n));
+  doc["studies"] = std::move(list);
+  doc["failures"] = failures;
+  doc["nulls"] = n.nulls();
+  return doc.dump(1) + "\n";
+}
+
+json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
+                 const std::string& at, JsonNumbers& n) {
+  json counts = json::object();
+  for (const auto& [verdict, count] : count_verdicts(entries)) counts[verdict] = count;
+  json rows = json::array();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const LedgerEntry& e = entries[i];
+    const LedgerRow& row = *e.row;
+    const std::string p = fmt::format("{}/rows/{}", at, i);
+    static const char* kKinds[] = {"published", "measure", "finding", "open"};
+    json r = {{"id", row.id},
+              {"source", row.source},
+              {"claim", row.claim},
+              {"kind", kKinds[static_cast<int>(row.kind)]},
+              {"verdict", e.verdict},
+              {"why", e.why}};
+    if (!row.cases.empty()) r["cases"] = row.cases;
+    if (!row.problem.empty()) r["problem"] = row.problem;
+    if (!row.finding.empty()) r["finding"] = row.finding;
+    if (!row.measure.empty()) r["measure"] = row.measure;
+    if (!row.quantity.empty()) r["quantity"] = row.quantity;
+    if (!row.nodes.empty()) r["nodes"] = row.nodes;
+    if (!row.reading.empty()) r["reading"] = row.reading;
+    if (!row.reason.empty()) r["reason"] = row.reason;
+    r["paper"] = row.paper;
+    if (row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure) {
+      r["tolerance"] = row.tolerance;
+      r["compare"] = row.compare == CompareBy::ratio ? "ratio" : "difference";
+      json ours = json::array(), ratio = json::array(), diff = json::array();
+      for (std::size_t k = 0; k < e.ours.size(); ++k)
+        ours.push_back(n.number(e.ours[k], fmt::format("{}/ours/{}", p, k),
+                                e.why.empty() ? e.verdict : e.verdict + ": " + e.why));
+      for (std::size_t k = 0; k < e.compared.size(); ++k) {
+        ratio.push_back(n.number(e.compared[k].ratio, fmt::format("{}/ratio/{}", p, k),
+                                 "ours is missing or the paper's value is 0"));
+        diff.push_back(n.number(e.compared[k].difference, fmt::format("{}/difference/{}", p, k),
+                                "ours is missing"));
+      }
+      r["ours"] = ours;
+      r["ratio"] = ratio;
+      r["difference"] = diff;
+    }
+    if (row.kind == LedgerRow::Kind::finding) {
+      r["criterion"] = e.criterion;
+      r["ours_text"] = e.ours_text;
+    }
+    rows.push_back(std::move(r));
+  }
+  return {{"ledger_file", ledger.path.string()}, {"counts", counts}, {"rows", rows}};
+}
+
+std::string ledger_json_text(const Ledger& ledger, const std::vector<LedgerEntry>& entries) {
+  JsonNumbers n;
+  json doc = ledger_json(ledger, entries, "", n);
+  doc["schema"] = kLedgerSchema;
+  doc["nulls"] = n.nulls();
+  return doc.dump(1) + "\n";
+}
+
+std::string verify_results_json(const Catalogue& catalogue, const RunInfo& run,
+                                const std::string& suite, const std::string& manifest,
+                                bool full, const std::vector<VerifyCaseJson>& cases,
+                                const Ledger* ledger, const std::vector<LedgerEntry>& entries) {
+  JsonNumbers n;
+  json doc = {{"schema", kResultsSchema}, {"run", run_json(run)}};
+  doc["suite"] = {{"name", suite}, {"manifest", manifest}, {"full", full}};
+  int failed = 0;
+  json list = json::array(), studies = json::array();
+  for (const auto& c : cases) {
+    if (c.verdict != "PASS") ++failed;
+    json j = {{"id", c.id},           {"problem", c.problem}, {"method", c.method},
+              {"nodes", c.nodes},     {"bands", c.bands},     {"baseline", c.baseline},
+              {"verdict", c.verdict}, {"messages", c.messages}};
+    if (c.study) {
+      j["study"] = studies.size();
+      studies.push_back(
+          study_json(catalogue, *c.study, fmt::format("/studies/{}", studies.size()), n));
+    } else {
+      j["study"] = nullptr;
+      j["error"] = c.error;
+    }
+    list.push_back(std::move(j));
+  }
+  doc["regression"] = {{"status", failed == 0 ? "PASS" : "FAIL"},
+                       {"failed", failed},
+                       {"cases", cases.size()},
+                       {"meaning", "against the manifest's bands and the baseline: no "
+                                   "regression; says nothing about reproducing the papers "
+                                   "(that is the ledger)"}};
+  doc["cases"] = std::move(list);
+  doc["studies"] = std::move(studies);
+  doc["failures"] = json::array();
+  for (const auto& c : cases)
+    if (!c.study) doc["failures"].push_back(fmt::format("{}: {}", c.id, c.error));
+  doc["ledger"] = ledger ? ledger_json(*ledger, entries, "/ledger", n) : json(nullptr);
+  doc["nulls"] = n.nulls();
+  return doc.dump(1) + "\n";
+}
+
+}  // namespace mfv

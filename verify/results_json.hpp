@@ -1,0 +1,77 @@
+/// Machine-readable results: results.json of a study, a comparison or a verification run, and
+/// ledger.json (schemas in docs/schemas/, described in docs/results-schema.md).
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "verify/case.hpp"
+#include "verify/ledger.hpp"
+
+namespace mfv {
+
+class Catalogue;
+
+inline constexpr const char* kResultsSchema = "mfv-results-1";
+inline constexpr const char* kLedgerSchema = "mfv-ledger-1";
+
+/// Builds JSON in which a non-finite number is written as null and its JSON pointer recorded
+/// with the reason in "nulls" (a NaN is never written as 0, an inf never as a big number).
+class JsonNumbers {
+ public:
+  /// x, or null with `pointer` → "<NaN|+inf|-inf>: <why>" recorded.
+  nlohmann::json number(double x, const std::string& pointer, const std::string& why);
+  /// null with `pointer` → `why` recorded: a quantity this kind of run does not measure.
+  nlohmann::json absent(const std::string& pointer, const std::string& why);
+  /// The recorded pointers and reasons (an object; empty when every number was finite).
+  const nlohmann::json& nulls() const { return nulls_; }
+
+ private:
+  nlohmann::json nulls_ = nlohmann::json::object();
+};
+
+/// The run around the results: what ran it and how long it took.
+struct RunInfo {
+  std::string kind;  ///< "study", "compare", "analysis" or "verify"
+  std::string generated_utc;
+  unsigned cores = 1;
+  double wall_seconds = 0, cpu_seconds = 0;
+};
+
+/// One study: parameters, per-resolution errors by norm name (common and paper rules), rates
+/// by norm name (least squares and pairwise), CPU seconds, headline values and the analysis
+/// verdicts. `pointer` is where it sits in the document (for "nulls").
+nlohmann::json study_json(const Catalogue& catalogue, const StudyResult& study,
+                          const std::string& pointer, JsonNumbers& numbers);
+
+/// results.json of `mfv study` / `compare` / `analyse`: the studies and the failures
+/// ("label: message").
+std::string results_json(const Catalogue& catalogue, const RunInfo& run,
+                         const std::vector<StudyResult>& studies,
+                         const std::vector<std::string>& failures);
+
+/// The evaluated ledger as JSON (ledger.json, and the "ledger" member of a verify results.json).
+nlohmann::json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
+                           const std::string& pointer, JsonNumbers& numbers);
+/// ledger.json as text.
+std::string ledger_json_text(const Ledger& ledger, const std::vector<LedgerEntry>& entries);
+
+/// One case of a verification run as `mfv verify` judged it.
+struct VerifyCaseJson {
+  std::string id, problem, method;
+  std::vector<int> nodes;
+  std::string bands, baseline, verdict;  ///< "inside"/"2 violated"/"not run", …, PASS/FAIL
+  std::vector<std::string> messages;
+  const StudyResult* study = nullptr;  ///< null when the case could not run
+  std::string error;
+};
+
+/// results.json of `mfv verify`: suite, regression summary, every case with its study, and the
+/// ledger (when the suite has one; `ledger` null otherwise).
+std::string verify_results_json(const Catalogue& catalogue, const RunInfo& run,
+                                const std::string& suite, const std::string& manifest,
+                                bool full, const std::vector<VerifyCaseJson>& cases,
+                                const Ledger* ledger, const std::vector<LedgerEntry>& entries);
+
+}  // namespace mfv
