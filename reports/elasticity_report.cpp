@@ -33,7 +33,14 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
     m.l2_rel_finest = f.errors.l2_rel;
     m.energy_rel_finest = f.errors.energy_rel;
     m.problem_params = f.spec.problem_params;
-    for (const auto& c : s.cases) m.headlines.push_back(c.headline);
+    for (const auto& c : s.cases) {
+      m.headlines.push_back(c.headline);
+      m.h.push_back(c.h);
+      m.l2_rel.push_back(c.errors.l2_rel);
+      m.energy_rel.push_back(c.errors.energy_rel);
+    }
+    m.l2_trend = judge_convergence(m.l2_rel, m.h);
+    m.energy_trend = judge_convergence(m.energy_rel, m.h);
     out.push_back(std::move(m));
   }
   return out;
