@@ -16,6 +16,7 @@
 #include "methods/materials/linear_elastic.hpp"
 #include "methods/methods/method.hpp"
 #include "verify/case.hpp"
+#include "verify/convergence.hpp"
 
 namespace mfv {
 
@@ -70,6 +71,11 @@ struct StudySummary {
   Params problem_params;  ///< as given
   /// Headline values of each resolution, coarsest first (transient verdicts read them).
   std::vector<std::map<std::string, double>> headlines;
+  /// Per resolution, coarsest first: spacing h and relative errors on the common rule.
+  std::vector<double> h, l2_rel, energy_rel;
+  /// What the errors do under refinement (verify/convergence.hpp): pairwise rates, fitted
+  /// rate and the trend. A finding that says "converges" asks these, not the slope alone.
+  ConvergenceJudgement l2_trend, energy_trend;
 };
 
 /// What a finding says about our run.

@@ -45,7 +45,7 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
                                    const std::string& title, const fs::path& dir) {
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("## {}\n\n{}\n\n", title,
+  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
   md += "**Cases.**\n\n";
   for (const auto& s : section.studies) {
@@ -60,7 +60,7 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
   for (const auto& s : section.studies)
     for (const auto& [k, v] : s.cases.back().headline)
       if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
-  md += "### Verdicts and measured values\n\nOne row per case; CPU seconds of the analysis "
+  md += "## Verdicts and measured values\n\nOne row per case; CPU seconds of the analysis "
         "(set-up of the operator, then the scans).\n\n";
   std::vector<std::string> header{"case", "verdict"};
   std::vector<char> align{'l', 'l'};
@@ -84,7 +84,7 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
   md += t.str() + "\n";
 
   // Figures and data of every case.
-  md += "### Figures and data\n\n";
+  md += "## Figures and data\n\n";
   fs::create_directories(dir / "plots");
   fs::create_directories(dir / "data");
   for (const auto& s : section.studies) {
@@ -96,7 +96,7 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
     for (const auto& table : r.analysis.tables) {
       const std::string name = fmt::format("data/{}-{}.csv", stem, table.name);
       write_file_atomic(dir / name, csv_text(table));
-      links.push_back(fmt::format("[{}.csv]({})", table.name, name));
+      links.push_back(fmt::format("[{}.csv]({}{})", table.name, kPageUp, name));
     }
     if (!links.empty()) md += fmt::format(" (data: {})", fmt::join(links, ", "));
     md += "\n\n";
@@ -113,10 +113,11 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
       if (const auto why = write_svg_plot(dir / name, spec))
         md += fmt::format("_{} plot not drawn: {}._\n\n", fig.id, *why);
       else
-        md += fmt::format("![{}]({})\n\n", fig.title, name);
+        md += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
     }
   }
-  md += published_block(*problem, section.studies);
+  md += published_block(*problem, section.studies,
+                        catalogue.problems.resolve(section.problem, Params{}));
   return md;
 }
 

@@ -1,4 +1,4 @@
-/// The report section of a 2D elasticity problem (001 §9.1): errors in L2 and energy on the
+/// The report page of a 2D elasticity problem (001 §9.1): errors in L2 and energy on the
 /// common rule and on each method's own quadrature, particles / stress points / cells, CPU
 /// per phase, solver statistics, rates, plots, the paper's findings with our verdicts, VTK.
 #include <algorithm>
@@ -33,7 +33,14 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
     m.l2_rel_finest = f.errors.l2_rel;
     m.energy_rel_finest = f.errors.energy_rel;
     m.problem_params = f.spec.problem_params;
-    for (const auto& c : s.cases) m.headlines.push_back(c.headline);
+    for (const auto& c : s.cases) {
+      m.headlines.push_back(c.headline);
+      m.h.push_back(c.h);
+      m.l2_rel.push_back(c.errors.l2_rel);
+      m.energy_rel.push_back(c.errors.energy_rel);
+    }
+    m.l2_trend = judge_convergence(m.l2_rel, m.h);
+    m.energy_trend = judge_convergence(m.energy_rel, m.h);
     out.push_back(std::move(m));
   }
   return out;
@@ -42,7 +49,7 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
 std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies) {
   const auto findings = problem.findings();
   if (findings.empty()) return "";
-  std::string md = "### The paper's findings and ours\n\n";
+  std::string md = "## The paper's findings and ours\n\n";
   const auto summaries = summarize(studies);
   MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
                   {'l', 'l', 'l', 'l', 'l'});
@@ -57,7 +64,7 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
                                      const std::string& title, const fs::path& dir, bool vtk) {
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("## {}\n\n{}\n\n", title,
+  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
   for (const auto& [k, v] : problem->headline_exact())
     md += fmt::format("Exact {} = {:.6g}. ", k, v);
@@ -73,7 +80,7 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
   md += findings_block(*problem, section.studies);
 
   // 2. Errors, sizes, solver and times.
-  md += "### Errors, sizes and CPU times\n\n\"L2\" is the relative displacement error (001 eq "
+  md += "## Errors, sizes and CPU times\n\n\"L2\" is the relative displacement error (001 eq "
         "71), \"energy\" the relative energy error (eq 73, with a square root, see below); "
         "\"common\" on 4×4 Gauss over a uniform grid with the trial field, \"own\" on the "
         "method's own quadrature with its own values and gradients. \"rcond\" is UMFPACK's "
@@ -121,16 +128,20 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
   }
 
   // 3. Rates.
-  md += "### Convergence rates\n\nLeast-squares slope of ln(error) against ln(h), and the slopes "
-        "between successive resolutions.\n\n";
+  md += "## Convergence rates\n\nLeast-squares slope of ln(error) against ln(h), and the slopes "
+        "between successive resolutions. The trends judge the pairwise rates and the finest "
+        "error (verify/convergence.hpp): converges only if the finest error is the smallest and "
+        "the last pairwise and the fitted rate are at least 0.5.\n\n";
   {
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "energy rate", "energy pairwise",
-                     "L2 rate (own)", "energy rate (own)"},
-                    {'l', 'r', 'r', 'r', 'r', 'r', 'r'});
+                     "L2 rate (own)", "energy rate (own)", "L2 trend", "energy trend"},
+                    {'l', 'r', 'r', 'r', 'r', 'r', 'r', 'l', 'l'});
     for (const auto& s : section.studies)
       t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
                  fmt_rate(s.rates.energy), fmt_rates(s.rates.energy_pairwise),
-                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.energy)});
+                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.energy),
+                 judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label(),
+                 judge_study(s, [](const CaseResult& c) { return c.errors.energy_rel; }).label()});
     md += t.str() + "\n";
   }
 
@@ -150,7 +161,8 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_{} plot skipped: {}_\n\n", energy ? "energy" : "L2", *why);
     else
-      md += fmt::format("![{} error against h]({})\n\n", energy ? "energy" : "L2", name);
+      md += fmt::format("![{} error against h]({}{})\n\n", energy ? "energy" : "L2", kPageUp,
+                        name);
   }
 
   const auto notes = problem->published_notes();
@@ -158,10 +170,10 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
 
   // 5. VTK: particles and quadrature points per resolution, one collection per study.
   if (vtk) {
-    md += "### VTK files\n\nParticles (displacement, exact, error; stress, exact, error; "
+    md += "## VTK files\n\nParticles (displacement, exact, error; stress, exact, error; "
           "volume) and the method's quadrature points (stress, exact, error; stress points "
           "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
-          "through the resolutions.\n\n";
+          "through the resolutions: its time axis is the particle spacing h.\n\n";
     md += write_vtk_collections(dir, base, section.studies,
                                 {{".vtp", write_particles_vtp},
                                  {"-quadrature.vtp", write_quadrature_vtp}});

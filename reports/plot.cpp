@@ -1,5 +1,6 @@
 #include "reports/plot.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -64,10 +65,13 @@ std::string gp_quote(const std::string& s) {
   return out + "'";
 }
 
-// Okabe–Ito colours (distinguishable with colour-blindness) and filled, then open, markers;
-// the two cycles have coprime lengths so colour and marker repeat together only after 56.
-constexpr std::array<const char*, 8> kColours = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
-                                                 "#E69F00", "#56B4E9", "#000000", "#999999"};
+// Okabe–Ito colours (distinguishable with colour-blindness) first, then further distinct
+// hues (no greys: grey is the reference lines'); filled, then open, markers. The marker
+// cycle (7) is coprime with the palette (20); past the palette the lines are dashed.
+constexpr std::array<const char*, kPaletteSize> kColours = {
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000",
+    "#8C564B", "#7F3C8D", "#66A61E", "#E7298A", "#1F3A93", "#A6761D", "#17BECF",
+    "#BCBD22", "#9E0142", "#5E4FA2", "#F46D43", "#4D4D00", "#FB9A99"};
 constexpr std::array<int, 7> kPointTypes = {7, 5, 9, 13, 11, 6, 4};
 
 struct Filtered {
@@ -75,21 +79,81 @@ struct Filtered {
   std::vector<std::pair<double, double>> points;
 };
 
-std::string build_script(const PlotSpec& spec, const std::vector<Filtered>& series) {
+/// "h²": a power in Unicode superscripts (the terminal prints text literally).
+std::string power_text(const std::string& variable, int p) {
+  static const std::array<const char*, 10> sup = {"⁰", "¹", "²", "³", "⁴",
+                                                  "⁵", "⁶", "⁷", "⁸", "⁹"};
+  std::string digits;
+  for (char c : std::to_string(std::abs(p))) digits += sup[c - '0'];
+  return variable + (p < 0 ? "⁻" : "") + digits;
+}
+
+/// Whether the y axis is logarithmic: asked for, or (auto_logy) every y positive and the
+/// values spanning kAutoLogSpan or more.
+bool use_logy(const PlotSpec& spec) {
+  if (spec.logy) return true;
+  if (!spec.auto_logy) return false;
+  double lo = INFINITY, hi = 0;
+  for (const auto& s : spec.series)
+    for (std::size_t i = 0; i < s.y.size() && i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      if (s.y[i] <= 0) return false;
+      lo = std::min(lo, s.y[i]);
+      hi = std::max(hi, s.y[i]);
+    }
+  return hi > 0 && hi / lo >= kAutoLogSpan;
+}
+
+/// The series with the points a plot can show (finite; positive on a log axis).
+std::vector<Filtered> filtered(const PlotSpec& spec, bool logy) {
+  std::vector<Filtered> series;
+  for (const auto& s : spec.series) {
+    Filtered f{s.label, {}};
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+      const double x = s.x[i], y = s.y[i];
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if ((spec.logx && x <= 0) || (logy && y <= 0)) continue;
+      f.points.emplace_back(x, y);
+    }
+    if (!f.points.empty()) series.push_back(std::move(f));
+  }
+  return series;
+}
+
+std::string build_script(const PlotSpec& spec, const std::vector<Filtered>& series, bool logy) {
   std::string gp;
   auto line = [&gp](const std::string& s) { gp += s + '\n'; };
-  line("set terminal svg size 720,480 font \"sans,11\" noenhanced background rgb 'white'");
+  // The legend sits outside the plot on the right: make room for long and many entries.
+  std::size_t longest = 0;
+  for (const auto& s : series) longest = std::max(longest, s.label.size());
+  const int width = std::max(720, 640 + 7 * static_cast<int>(longest));
+  const int height = std::max(480, 120 + 20 * static_cast<int>(series.size() + 3));
+  line(fmt::format("set terminal svg size {},{} font \"sans,11\" noenhanced background rgb "
+                   "'white'",
+                   width, height));
   line("set encoding utf8");
   if (!spec.title.empty()) line("set title " + gp_quote(spec.title));
   line("set xlabel " + gp_quote(spec.xlabel));
   line("set ylabel " + gp_quote(spec.ylabel));
-  if (spec.logx) line("set logscale x 10");
-  if (spec.logy) line("set logscale y 10");
+  if (spec.logx) {
+    // Autoscaling a log axis rounds out to whole decades; keep the data's own range.
+    double xmin = INFINITY, xmax = 0;
+    for (const auto& s : series)
+      for (const auto& [x, y] : s.points) {
+        xmin = std::min(xmin, x);
+        xmax = std::max(xmax, x);
+      }
+    line("set logscale x 10");
+    if (xmin < xmax) line(fmt::format("set xrange [{:.17g}:{:.17g}]", xmin / 1.2, xmax * 1.2));
+  }
+  if (logy) line("set logscale y 10");
+  if (logy) line("set format y '%.0e'");
   line("set grid xtics ytics mxtics mytics lc rgb '#dddddd' lw 1");
   line("set key outside right top vertical Left reverse");
   for (std::size_t i = 0; i < series.size(); ++i) {
-    line(fmt::format("set style line {} lc rgb '{}' lw 1.5 pt {} ps 1", i + 1,
-                     kColours[i % kColours.size()], kPointTypes[i % kPointTypes.size()]));
+    line(fmt::format("set style line {} lc rgb '{}' lw 1.5 pt {} ps 1 dt {}", i + 1,
+                     kColours[i % kColours.size()], kPointTypes[i % kPointTypes.size()],
+                     i / kColours.size() + 1));
   }
   // Data blocks keep the data inside the script: no further temporary file and no file
   // name that would need quoting in gnuplot syntax.
@@ -98,12 +162,39 @@ std::string build_script(const PlotSpec& spec, const std::vector<Filtered>& seri
     for (const auto& [x, y] : series[i].points) line(fmt::format("{:.17g} {:.17g}", x, y));
     line("EOD");
   }
+  // Reference slopes through the geometric mean of each series' value at its largest x.
+  std::vector<std::string> references;
+  if (spec.logx && logy && !spec.reference_slopes.empty()) {
+    double xmin = INFINITY, xmax = 0, log_sum = 0;
+    for (const auto& s : series)
+      for (const auto& [x, y] : s.points) {
+        xmin = std::min(xmin, x);
+        xmax = std::max(xmax, x);
+      }
+    for (const auto& s : series) {
+      const auto top = std::max_element(s.points.begin(), s.points.end());
+      log_sum += std::log(top->second);
+    }
+    const double anchor = std::exp(log_sum / series.size());
+    if (xmin < xmax)
+      for (std::size_t k = 0; k < spec.reference_slopes.size(); ++k) {
+        const int p = spec.reference_slopes[k];
+        line(fmt::format("$r{} << EOD", k));
+        line(fmt::format("{:.17g} {:.17g}", xmin, anchor * std::pow(xmin / xmax, p)));
+        line(fmt::format("{:.17g} {:.17g}", xmax, anchor));
+        line("EOD");
+        references.push_back(fmt::format(
+            "$r{} using 1:2 with lines lc rgb '#777777' lw 1 dt {} title {}", k, k + 2,
+            gp_quote("∝ " + power_text(spec.reference_variable, p) + " (reference)")));
+      }
+  }
   std::string plot = "plot ";
   for (std::size_t i = 0; i < series.size(); ++i) {
     if (i > 0) plot += ", \\\n     ";
     plot += fmt::format("$d{} using 1:2 with {} ls {} title {}", i, spec.style, i + 1,
                         gp_quote(series[i].label));
   }
+  for (const auto& r : references) plot += ", \\\n     " + r;
   line(plot);
   return gp;
 }
@@ -168,23 +259,20 @@ std::optional<std::string> run_gnuplot(const fs::path& gnuplot, const fs::path& 
 
 bool gnuplot_available() { return find_on_path("gnuplot").has_value(); }
 
+std::string gnuplot_script(const PlotSpec& spec) {
+  const bool logy = use_logy(spec);
+  const auto series = filtered(spec, logy);
+  return series.empty() ? std::string() : build_script(spec, series, logy);
+}
+
 std::optional<std::string> write_svg_plot(const fs::path& svg_path, const PlotSpec& spec) {
   if (spec.style != "linespoints" && spec.style != "lines" && spec.style != "points")
     return fmt::format("unknown plot style '{}': use linespoints, lines or points", spec.style);
-  std::vector<Filtered> series;
-  for (const auto& s : spec.series) {
+  for (const auto& s : spec.series)
     if (s.x.size() != s.y.size())
       return fmt::format("series '{}' has {} x and {} y values", s.label, s.x.size(), s.y.size());
-    Filtered f{s.label, {}};
-    for (std::size_t i = 0; i < s.x.size(); ++i) {
-      const double x = s.x[i], y = s.y[i];
-      if (!std::isfinite(x) || !std::isfinite(y)) continue;
-      if ((spec.logx && x <= 0) || (spec.logy && y <= 0)) continue;
-      f.points.emplace_back(x, y);
-    }
-    if (!f.points.empty()) series.push_back(std::move(f));
-  }
-  if (series.empty()) return "nothing to plot: every series is empty";
+  const std::string text = gnuplot_script(spec);
+  if (text.empty()) return "nothing to plot: every series is empty";
 
   const auto gnuplot = find_on_path("gnuplot");
   if (!gnuplot) return "gnuplot not found: install the Debian package gnuplot-nox";
@@ -195,7 +283,7 @@ std::optional<std::string> write_svg_plot(const fs::path& svg_path, const PlotSp
     PendingFile err(svg_path, "err");
     {
       std::ofstream out(script.path(), std::ios::binary | std::ios::trunc);
-      out << build_script(spec, series);
+      out << text;
       out.close();
       if (!out) return fmt::format("cannot write the gnuplot script for '{}'", svg_path.string());
     }
@@ -214,19 +302,25 @@ PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResul
                           const std::function<double(const Rates&)>& rate) {
   PlotSpec spec;
   spec.title = title;
-  spec.xlabel = "h (nominal particle spacing)";
+  spec.xlabel = "nominal particle spacing h (length unit of x)";
   spec.ylabel = ylabel;
   spec.logx = spec.logy = true;
   spec.style = "linespoints";
+  double steepest = 0;
   for (const auto& study : studies) {
     Series s;
-    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(rate(study.rates)));
+    const double r = rate(study.rates);
+    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(r));
+    if (std::isfinite(r)) steepest = std::max(steepest, r);
     for (const auto& c : study.cases) {
       s.x.push_back(c.h);
       s.y.push_back(error(c));
     }
     spec.series.push_back(std::move(s));
   }
+  spec.reference_slopes = {1, 2};
+  const int top = static_cast<int>(std::lround(std::min(steepest, 10.0)));
+  if (top > 2) spec.reference_slopes.push_back(top);
   return spec;
 }
 

@@ -1,15 +1,19 @@
 #include "reports/study_report.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <limits>
 #include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
 #include "reports/vtk.hpp"
+#include "verify/comparison.hpp"
 
 namespace mfv {
 
@@ -31,6 +35,18 @@ bool params_match(const Params& resolved, const Params& wanted) {
   return true;
 }
 
+/// Whether case `r` measures published value `pv`: method, node count, method parameters,
+/// and each published problem parameter as the case set it or, unset, at its default.
+bool case_matches(const PublishedValue& pv, const CaseResult& r, const Params& defaults) {
+  if (r.spec.method != pv.method || r.spec.nodes != pv.nodes) return false;
+  if (!params_match(r.method_params, pv.method_params)) return false;
+  for (const auto& [k, v] : pv.problem_params.values()) {
+    const Params& from = r.spec.problem_params.has(k) ? r.spec.problem_params : defaults;
+    if (from.has(k) && format_value(from.values().at(k)) != format_value(v)) return false;
+  }
+  return true;
+}
+
 double our_value(const CaseResult& r, const std::string& quantity) {
   if (quantity == "error u") return r.errors.l2_rel;
   if (quantity == "error du/dx") return r.errors.h1_semi_rel;
@@ -38,10 +54,73 @@ double our_value(const CaseResult& r, const std::string& quantity) {
   return it == r.headline.end() ? kNaN : it->second;
 }
 
-std::string join_lines(const std::vector<std::string>& lines) {
+/// Markdown paragraphs, one per entry.
+std::string paragraphs(const std::vector<std::string>& texts) {
   std::string out;
-  for (const auto& l : lines) out += l + "\n";
+  for (const auto& t : texts) out += t + "\n\n";
   return out;
+}
+
+/// A value as a person reads it: 5 significant digits, scientific when tiny or huge.
+std::string value_text(double v) {
+  if (std::isnan(v)) return "–";
+  if (v == 0) return "0";
+  return std::abs(v) < 1e-2 || std::abs(v) >= 1e5 ? fmt_sci(v, 4) : fmt::format("{:.5g}", v);
+}
+
+std::string ratio_text(double r) {
+  if (!std::isfinite(r)) return "–";
+  return std::abs(r) < 1e-2 || std::abs(r) >= 1e3 ? fmt_sci(r, 2) : fmt::format("{:.3g}", r);
+}
+
+std::string method_text(const PublishedValue& p) {
+  const std::string params = p.method_params.to_string();
+  return params.empty() ? p.method : p.method + " " + params;
+}
+
+/// compare_value under the value's own tolerance; a tolerance that is not a positive number
+/// gives no verdict rather than a made-up one.
+struct Judged {
+  double ratio = kNaN;
+  std::string tolerance, verdict;
+};
+Judged judge(double ours, const PublishedValue& p) {
+  Judged j;
+  if (!(p.tolerance > 0) || !std::isfinite(p.tolerance)) {
+    j.ratio = p.value != 0 ? ours / p.value : kNaN;
+    j.tolerance = "–";
+    j.verdict = fmt::format("no verdict: tolerance {} is not positive", p.tolerance);
+    return j;
+  }
+  const Comparison c = compare_value(ours, p.value, p.tolerance);
+  j.ratio = c.ratio;
+  j.tolerance = fmt::format("{:g}%", 100 * p.tolerance);
+  j.verdict = c.verdict;
+  return j;
+}
+
+std::vector<std::string> spacings(const StudyResult& s) {
+  std::vector<std::string> out;
+  for (const auto& c : s.cases) out.push_back(fmt::format("{:.4g}", c.h));
+  return out;
+}
+
+/// Counts of verdict words, the ledger's order first (reproduced … not yet built), others
+/// after in first-seen order: "2 reproduced, 1 not reproduced".
+std::string count_text(const std::vector<std::string>& verdicts) {
+  std::vector<std::pair<std::string, int>> counts;
+  for (const char* v : {kReproduced, kReproducedReading, kPartly, kNotReproduced, kNotReached,
+                        "not run", kNotYetBuilt})
+    counts.emplace_back(v, 0);
+  for (const auto& v : verdicts) {
+    auto it = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == v; });
+    if (it == counts.end()) counts.emplace_back(v, 1);
+    else ++it->second;
+  }
+  std::erase_if(counts, [](const auto& c) { return c.second == 0; });
+  std::vector<std::string> parts;
+  for (const auto& [v, n] : counts) parts.push_back(fmt::format("{} {}", n, v));
+  return fmt::format("{}", fmt::join(parts, ", "));
 }
 
 }  // namespace
@@ -80,27 +159,45 @@ void add_to_sections(std::vector<ReportSection>& sections, StudyResult study) {
 }
 
 std::vector<PublishedComparison> compare_published(const Problem& problem,
-                                                   const std::vector<StudyResult>& studies) {
+                                                   const std::vector<StudyResult>& studies,
+                                                   const Params& problem_defaults) {
   std::vector<PublishedComparison> out;
   for (const auto& pv : problem.published()) {
     bool matched = false;
-    for (const auto& s : studies) {
-      for (const auto& r : s.cases) {
-        if (r.spec.method != pv.method || r.spec.nodes != pv.nodes) continue;
-        if (!params_match(r.method_params, pv.method_params)) continue;
-        bool same_problem = true;
-        for (const auto& [k, v] : pv.problem_params.values())
-          if (r.spec.problem_params.has(k) &&
-              format_value(r.spec.problem_params.values().at(k)) != format_value(v))
-            same_problem = false;
-        if (!same_problem) continue;
-        out.push_back({pv, s.label, our_value(r, pv.quantity)});
-        matched = true;
-      }
-    }
+    for (const auto& s : studies)
+      for (const auto& r : s.cases)
+        if (case_matches(pv, r, problem_defaults)) {
+          out.push_back({pv, s.label, our_value(r, pv.quantity)});
+          matched = true;
+        }
     if (!matched) out.push_back({pv, "", kNaN});
   }
   return out;
+}
+
+std::vector<PublishedRow> published_rows(const Problem& problem,
+                                         const std::vector<StudyResult>& studies,
+                                         const Params& problem_defaults) {
+  std::vector<PublishedRow> rows;
+  std::set<std::string> seen;
+  for (const auto& pv : problem.published()) {
+    // A problem may list one value twice (once per problem parameter it loops over): one row.
+    const std::string key =
+        fmt::format("{}\x1f{}\x1f{}\x1f{}\x1f{}\x1f{:.17g}\x1f{}", pv.source, pv.quantity,
+                    pv.method, pv.method_params.to_string(), pv.nodes, pv.value,
+                    pv.problem_params.to_string());
+    if (!seen.insert(key).second) continue;
+    PublishedRow row{pv, {}, {}};
+    for (const auto& s : studies)
+      for (const auto& r : s.cases) {
+        if (!case_matches(pv, r, problem_defaults)) continue;
+        const double v = our_value(r, pv.quantity);
+        if (std::isfinite(v)) row.ours.emplace_back(s.label, v);
+        else row.unmeasured.push_back(s.label);
+      }
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
@@ -111,72 +208,102 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
     const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
     std::filesystem::create_directories(dir / sub);
     std::vector<std::pair<double, std::string>> entries;
-    for (std::size_t i = 0; i < s.cases.size(); ++i)
+    for (const auto& c : s.cases)
       for (const auto& [suffix, write] : parts) {
-        const std::string name = fmt::format("n{}{}", s.cases[i].spec.nodes, suffix);
-        write(dir / sub / name, s.cases[i]);
-        entries.emplace_back(static_cast<double>(i), name);
+        const std::string name = fmt::format("n{}{}", c.spec.nodes, suffix);
+        write(dir / sub / name, c);
+        entries.emplace_back(c.h, name);  // ParaView's time axis: the spacing h
       }
     write_pvd(dir / sub / "study.pvd", entries);
-    md += fmt::format("- `{}`: [{}/study.pvd]({}/study.pvd)\n", s.label, sub, sub);
+    md += fmt::format("- `{}`: [{}/study.pvd]({}{}/study.pvd) (time = h: {})\n", s.label, sub,
+                      kPageUp, sub, fmt::join(spacings(s), ", "));
   }
   return md + "\n";
 }
 
-std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies) {
-  std::string md;
-  const auto comparisons = compare_published(problem, studies);
-  if (!comparisons.empty()) {
-    md += "### Published values beside ours\n\n";
-    MarkdownTable t({"source", "quantity", "method", "nodes", "paper", "ours", "ours − paper",
-                     "our study"},
-                    {'l', 'l', 'l', 'r', 'r', 'r', 'r', 'l'});
-    std::set<std::string> notes;
-    int not_run = 0;
-    std::vector<std::string> not_run_examples;
-    for (const auto& c : comparisons) {
-      const PublishedValue& p = c.published;
-      const std::string params = p.method_params.to_string();
-      const std::string method = params.empty() ? p.method : p.method + " " + params;
-      if (c.study.empty()) {
-        ++not_run;
-        if (not_run_examples.size() < 4)
-          not_run_examples.push_back(fmt::format("{} at {} nodes", method, p.nodes));
-        continue;
-      }
-      if (!p.note.empty()) notes.insert(fmt::format("{}: {}", p.source, p.note));
-      const bool small = std::abs(p.value) < 1;
-      t.add_row({p.source, p.quantity, method, std::to_string(p.nodes),
-                 small ? fmt_sci(p.value, 4) : fmt::format("{:.4f}", p.value),
-                 small ? fmt_sci(c.ours, 4) : fmt::format("{:.4f}", c.ours),
-                 std::isnan(c.ours) ? "–" : fmt::format("{:+.4g}", c.ours - p.value), c.study});
+std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
+                            const Params& problem_defaults) {
+  const auto rows = published_rows(problem, studies, problem_defaults);
+  if (rows.empty()) return "";
+  std::string md = "## Published values beside ours\n\n";
+  MarkdownTable t({"source", "quantity", "method", "n", "paper", "ours", "ours/paper",
+                   "tolerance", "verdict", "our study", "notes"},
+                  {'l', 'l', 'l', 'r', 'r', 'r', 'r', 'r', 'l', 'l', 'l'});
+  std::vector<std::string> notes;  // numbered under the table, shared by equal texts
+  auto note_number = [&notes](const std::string& text) {
+    const auto it = std::find(notes.begin(), notes.end(), text);
+    if (it != notes.end()) return static_cast<int>(it - notes.begin()) + 1;
+    notes.push_back(text);
+    return static_cast<int>(notes.size());
+  };
+  // Values not run: grouped by method and quantity, their node counts listed once each.
+  std::vector<std::pair<std::string, std::vector<int>>> not_run;
+  for (const auto& row : rows) {
+    const PublishedValue& p = row.published;
+    const std::string method = method_text(p);
+    if (row.ours.empty()) {
+      std::string what = fmt::format("{}: {}", method, p.quantity);
+      if (!row.unmeasured.empty())
+        what += fmt::format(" (`{}` ran there but does not measure it)",
+                            fmt::join(row.unmeasured, "`, `"));
+      auto it = std::find_if(not_run.begin(), not_run.end(),
+                             [&](const auto& e) { return e.first == what; });
+      if (it == not_run.end()) not_run.emplace_back(what, std::vector<int>{});
+      it = std::find_if(not_run.begin(), not_run.end(),
+                        [&](const auto& e) { return e.first == what; });
+      if (std::find(it->second.begin(), it->second.end(), p.nodes) == it->second.end())
+        it->second.push_back(p.nodes);
+      continue;
     }
-    if (t.rows() > 0) md += t.str() + "\n";
-    for (const auto& n : notes) md += fmt::format("_{}._\n", n);
-    if (not_run > 0)
-      md += fmt::format("\n{} published value(s) have no matching study in this run (e.g. {}); "
-                        "run them with `mfv compare` or the `--full` suite.\n",
-                        not_run, fmt::join(not_run_examples, "; "));
-    md += "\n";
-    const auto explain = problem.published_notes();
-    if (!explain.empty()) md += join_lines(explain) + "\n";
+    const auto& [study, ours] = row.ours.front();
+    const Judged j = judge(ours, p);
+    std::vector<int> refs;
+    if (!p.note.empty()) refs.push_back(note_number(p.note));
+    for (std::size_t k = 1; k < row.ours.size(); ++k) {
+      const Judged o = judge(row.ours[k].second, p);
+      refs.push_back(note_number(fmt::format("also `{}`: ours {}, ratio {}, {}",
+                                             row.ours[k].first, value_text(row.ours[k].second),
+                                             ratio_text(o.ratio), o.verdict)));
+    }
+    std::vector<std::string> ref_text;
+    for (int r : refs) ref_text.push_back(fmt::format("[{}]", r));
+    t.add_row({p.source, p.quantity, method, std::to_string(p.nodes), value_text(p.value),
+               value_text(ours), ratio_text(j.ratio), j.tolerance, j.verdict, study,
+               fmt::format("{}", fmt::join(ref_text, " "))});
   }
+  if (t.rows() > 0) {
+    md += fmt::format("n counts {}. ", problem.resolution_name());
+    md += "\"ours/paper\" is the ratio; the verdict is reproduced when |ours/paper − 1| is "
+          "within the value's tolerance, partly within 3× it, not reproduced beyond "
+          "(verify/comparison.hpp).\n\n";
+    md += t.str() + "\n";
+    for (std::size_t i = 0; i < notes.size(); ++i)
+      md += fmt::format("[{}] {}  \n", i + 1, notes[i]);
+    if (!notes.empty()) md += "\n";
+  }
+  if (!not_run.empty()) {
+    md += "**Not run or not measured in this suite** (run them with `mfv compare` or the "
+          "`--full` suite):\n\n";
+    for (const auto& [what, nodes] : not_run)
+      md += fmt::format("- {} at {} {}\n", what, fmt::join(nodes, ", "), problem.resolution_name());
+    md += "\n";
+  }
+  const auto explain = problem.published_notes();
+  md += paragraphs(explain);
   return md;
 }
 
-std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
-                                  const std::filesystem::path& dir, bool vtk) {
+namespace {
+
+/// The page of a 1D static problem: methods, errors and CPU per resolution, rates with
+/// their trend, plots, published values, VTK.
+std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& section,
+                              const std::string& title, const std::filesystem::path& dir,
+                              bool vtk) {
   namespace fs = std::filesystem;
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
-  const std::string title = section_title(section);
-  if (problem->transient())
-    return write_transient_section(catalogue, section, title, dir, vtk);
-  if (problem->analysis()) return write_analysis_section(catalogue, section, title, dir);
-  if (!section.studies.empty() && !section.studies.front().cases.empty() &&
-      section.studies.front().cases.front().components > 1)
-    return write_elasticity_section(catalogue, section, title, dir, vtk);
   const std::string base = slug(title);
-  std::string md = fmt::format("## {}\n\n{}\n\n", title,
+  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
 
   const auto exact_headline = problem->headline_exact();
@@ -200,7 +327,7 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   md += "\n";
 
   // 2. Errors and times per resolution.
-  md += "### Errors and CPU times\n\nErrors on the common rule (uniform cells, 6 Gauss points "
+  md += "## Errors and CPU times\n\nErrors on the common rule (uniform cells, 6 Gauss points "
         "each, at least 1200 cells; the same for every method); \"H1\" is the seminorm ‖e′‖, "
         "\"rel\" divides by the exact solution's norm; \"cond\" is the 2-norm condition number of "
         "the solved system (above ~1e12 the errors carry round-off). CPU seconds per phase.\n\n";
@@ -231,43 +358,270 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
   }
 
   // 3. Rates.
-  md += "### Convergence rates\n\nLeast-squares slope of ln e against ln h over all "
+  md += "## Convergence rates\n\nLeast-squares slope of ln e against ln h over all "
         "resolutions (004 II eq 7.3), and the slope between successive resolutions; the paper "
-        "rule integrates with 12 Gauss points between neighbouring particles.\n\n";
+        "rule integrates with 12 Gauss points between neighbouring particles. The L2 trend "
+        "judges the pairwise rates and the finest error (verify/convergence.hpp): converges "
+        "only if the finest error is the smallest and the last pairwise and the fitted rate "
+        "are at least 0.5.\n\n";
   {
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "H1 rate", "H1 pairwise",
-                     "L2 rate (paper rule)", "H1 rate (paper rule)"},
-                    {'l', 'r', 'r', 'r', 'r', 'r', 'r'});
+                     "L2 rate (paper rule)", "H1 rate (paper rule)", "L2 trend"},
+                    {'l', 'r', 'r', 'r', 'r', 'r', 'r', 'l'});
     for (const auto& s : section.studies)
       t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
                  fmt_rate(s.rates.h1_semi), fmt_rates(s.rates.h1_semi_pairwise),
-                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.h1_semi)});
+                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.h1_semi),
+                 judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label()});
     md += t.str() + "\n";
   }
 
-  // 4. Plots.
+  // 4. Plots: relative errors (dimensionless), so every axis has its unit.
   fs::create_directories(dir / "plots");
   for (bool h1 : {false, true}) {
     const std::string name = fmt::format("plots/{}-{}.svg", base, h1 ? "h1" : "l2");
-    const PlotSpec spec = convergence_plot(
-        fmt::format("{}: {} error", title, h1 ? "H1 seminorm" : "L2"), section.studies, h1);
+    const PlotSpec spec =
+        h1 ? convergence_plot(title + ": H1 seminorm error", section.studies,
+                              "relative H1 seminorm error |u_h - u|_1 / |u|_1 (dimensionless)",
+                              [](const CaseResult& c) { return c.errors.h1_semi_rel; },
+                              [](const Rates& r) { return r.h1_semi; })
+           : convergence_plot(title + ": L2 error", section.studies,
+                              "relative L2 error ||u_h - u|| / ||u|| (dimensionless)",
+                              [](const CaseResult& c) { return c.errors.l2_rel; },
+                              [](const Rates& r) { return r.l2; });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_{} plot skipped: {}_\n\n", h1 ? "H1" : "L2", *why);
     else
-      md += fmt::format("![{} error against h]({})\n\n", h1 ? "H1 seminorm" : "L2", name);
+      md += fmt::format("![{} error against h]({}{})\n\n", h1 ? "H1 seminorm" : "L2", kPageUp,
+                        name);
   }
 
   // 5. Published values beside ours.
-  md += published_block(*problem, section.studies);
+  md += published_block(*problem, section.studies,
+                        catalogue.problems.resolve(section.problem, Params{}));
 
   // 6. VTK files: one ParaView collection per study, stepping through the resolutions.
   if (vtk) {
-    md += "### VTK files\n\nParticles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
+    md += "## VTK files\n\nParticles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
           "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
-          "through the resolutions.\n\n";
+          "through the resolutions: its time axis is the particle spacing h.\n\n";
     md += write_vtk_collections(dir, base, section.studies,
                                 {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
   }
+  return md;
+}
+
+}  // namespace
+
+ConvergenceJudgement judge_study(const StudyResult& study,
+                                 const std::function<double(const CaseResult&)>& error) {
+  std::vector<double> e, h;
+  for (const auto& c : study.cases) {
+    e.push_back(error(c));
+    h.push_back(c.h);
+  }
+  return judge_convergence(e, h);
+}
+
+namespace {
+
+/// The finest resolution every study of the section has; 0 when they share none.
+int finest_common_resolution(const std::vector<StudyResult>& studies) {
+  std::set<int> common;
+  bool first = true;
+  for (const auto& s : studies) {
+    if (s.cases.empty()) continue;
+    std::set<int> mine;
+    for (const auto& c : s.cases) mine.insert(c.spec.nodes);
+    if (first) {
+      common = mine;
+      first = false;
+    } else {
+      std::set<int> both;
+      std::set_intersection(common.begin(), common.end(), mine.begin(), mine.end(),
+                            std::inserter(both, both.begin()));
+      common = std::move(both);
+    }
+  }
+  return common.empty() ? 0 : *common.rbegin();
+}
+
+/// The method ranking of a section with errors: relative L2 error (the problem's main field)
+/// at the finest common resolution, the finest error where a study goes further, the fitted
+/// rate with its trend, CPU seconds and correct digits per CPU second; best first.
+std::string ranking_block(const std::vector<StudyResult>& studies, const std::string& resolution,
+                          const std::string& error_name) {
+  const int common = finest_common_resolution(studies);
+  struct Row {
+    std::string label;
+    const CaseResult* at = nullptr;  // the case at the common resolution (or the finest)
+    const CaseResult* finest = nullptr;
+    ConvergenceJudgement trend;
+  };
+  std::vector<Row> rows;
+  bool further = false;
+  for (const auto& s : studies) {
+    if (s.cases.empty()) continue;
+    Row r{s.label, &s.cases.back(), &s.cases.back(),
+          judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; })};
+    if (common > 0)
+      for (const auto& c : s.cases)
+        if (c.spec.nodes == common) r.at = &c;
+    further = further || r.at != r.finest;
+    rows.push_back(std::move(r));
+  }
+  if (rows.empty()) return "";
+  // Best first; an error that is missing, not finite or exactly 0 (nothing measured: no
+  // floating-point solution is exact) goes last.
+  const auto measured = [](const Row& r) {
+    const double e = r.at->errors.l2_rel;
+    return std::isfinite(e) && e > 0;
+  };
+  std::stable_sort(rows.begin(), rows.end(), [&](const Row& a, const Row& b) {
+    if (measured(a) != measured(b)) return measured(a);
+    return measured(a) && a.at->errors.l2_rel < b.at->errors.l2_rel;
+  });
+  const std::string at =
+      common > 0 ? fmt::format("{} {}", common, resolution) : std::string("each study's finest");
+  std::string md = fmt::format(
+      "Ranked by the {} at {}{}. Rate: least-squares slope of ln e against ln h, with the "
+      "trend judged from the pairwise rates and the finest error; CPU: seconds of that case; "
+      "digits/s: correct digits −log₁₀(error) per CPU second there (higher is better; below "
+      "10 ms CPU times are noisy).\n\n",
+      error_name, at,
+      common > 0 ? " (the finest resolution all studies share)" : " (they share no resolution)");
+  std::vector<std::string> head{"method", fmt::format("error at {}", common > 0 ? std::to_string(common) : "finest")};
+  if (further) head.push_back("finest error (n)");
+  for (const char* c : {"rate (trend)", "CPU s", "digits/s"}) head.push_back(c);
+  std::vector<char> align(head.size(), 'r');
+  align[0] = 'l';
+  align[head.size() - 3] = 'l';
+  MarkdownTable t(head, align);
+  for (const auto& r : rows) {
+    const double e = r.at->errors.l2_rel, cpu = r.at->cpu.total();
+    std::vector<std::string> row{r.label, e == 0 ? "0 (not measured?)" : fmt_sci(e, 2)};
+    if (further)
+      row.push_back(r.finest == r.at ? "–"
+                                     : fmt::format("{} ({})", fmt_sci(r.finest->errors.l2_rel, 2),
+                                                   r.finest->spec.nodes));
+    row.push_back(r.trend.trend == Trend::undetermined
+                      ? fmt::format("– ({})", r.trend.reason)
+                      : fmt::format("{} ({})", fmt_rate(r.trend.fitted_rate),
+                                    trend_name(r.trend.trend)));
+    row.push_back(fmt::format("{:.3f}", cpu));
+    row.push_back(std::isfinite(e) && e > 0 && cpu > 0
+                      ? fmt::format("{:.3g}", std::max(0.0, -std::log10(e)) / cpu)
+                      : "–");
+    t.add_row(row);
+  }
+  return md + t.str() + "\n";
+}
+
+/// The one-line verdict counts of the findings and the published values.
+std::string verdict_lines(const Problem& problem, const ReportSection& section,
+                          const Params& defaults) {
+  std::string md;
+  const auto findings = problem.findings();
+  if (!findings.empty()) {
+    const auto summaries = summarize(section.studies);
+    std::vector<std::string> v;
+    for (const auto& f : findings) v.push_back(f.check(summaries).status);
+    md += fmt::format("Findings of the papers ({}): {}.  \n", v.size(), count_text(v));
+  }
+  const auto rows = published_rows(problem, section.studies, defaults);
+  if (!rows.empty()) {
+    std::vector<std::string> v;
+    int not_run = 0;
+    for (const auto& r : rows) {
+      if (r.ours.empty()) ++not_run;
+      else v.push_back(judge(r.ours.front().second, r.published).verdict);
+    }
+    if (v.empty())
+      md += fmt::format("Published values: none run in this suite ({} listed on the page).  \n",
+                        not_run);
+    else
+      md += fmt::format("Published values ({} compared): {}{}.  \n", v.size(), count_text(v),
+                        not_run > 0 ? fmt::format("; {} not run in this suite", not_run) : "");
+  }
+  if (!section.failures.empty())
+    md += fmt::format("**{} stud{} could not run** (reasons on the page).  \n",
+                      section.failures.size(), section.failures.size() == 1 ? "y" : "ies");
+  return md;
+}
+
+/// A one-line form of an analysis verdict: the text up to the first ';', cut at a word
+/// boundary near 100 characters (the whole verdict is on the page).
+std::string short_verdict(const std::vector<std::string>& verdicts) {
+  if (verdicts.empty()) return "–";
+  std::string v = verdicts.front();
+  if (const auto semi = v.find(';'); semi != std::string::npos) v = v.substr(0, semi) + " …";
+  if (v.size() > 110) {
+    const auto space = v.rfind(' ', 100);
+    v = v.substr(0, space == std::string::npos ? 100 : space) + " …";
+  }
+  if (verdicts.size() > 1) v += fmt::format(" (+{} more)", verdicts.size() - 1);
+  return v;
+}
+
+std::string analysis_summary(const ReportSection& section) {
+  MarkdownTable t({"case", "verdict", "CPU s"}, {'l', 'l', 'r'});
+  for (const auto& s : section.studies) {
+    if (s.cases.empty()) continue;
+    const CaseResult& r = s.cases.back();
+    const std::string pp = r.spec.problem_params.to_string();
+    t.add_row({pp.empty() ? s.label : s.label + " | " + pp, short_verdict(r.analysis.verdicts),
+               fmt::format("{:.3f}", r.cpu.total())});
+  }
+  return t.rows() > 0 ? t.str() + "\n" : "";
+}
+
+/// problems/<slug>.md, or <slug>-2.md, … if a page of that name is there already.
+std::filesystem::path page_path(const std::filesystem::path& dir, const std::string& title) {
+  const std::string base = slug(title);
+  std::filesystem::path p = dir / kPagesDir / (base + ".md");
+  for (int k = 2; std::filesystem::exists(p); ++k)
+    p = dir / kPagesDir / fmt::format("{}-{}.md", base, k);
+  return p;
+}
+
+}  // namespace
+
+std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
+                                  const std::filesystem::path& dir, bool vtk) {
+  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const Params defaults = catalogue.problems.resolve(section.problem, Params{});
+  const std::string title = section_title(section);
+  const bool elasticity = !section.studies.empty() && !section.studies.front().cases.empty() &&
+                          section.studies.front().cases.front().components > 1;
+  const std::string page =
+      problem->transient()  ? write_transient_section(catalogue, section, title, dir, vtk)
+      : problem->analysis() ? write_analysis_section(catalogue, section, title, dir)
+      : elasticity          ? write_elasticity_section(catalogue, section, title, dir, vtk)
+                            : write_scalar_page(catalogue, section, title, dir, vtk);
+  std::filesystem::create_directories(dir / kPagesDir);
+  const std::filesystem::path path = page_path(dir, title);
+  write_file_atomic(path, page);
+  const std::string link = fmt::format("{}/{}", kPagesDir, path.filename().string());
+
+  std::string md = fmt::format("## {}\n\n{}\n\n", title,
+                               catalogue.problems.entry(section.problem).description);
+  if (problem->analysis()) {
+    md += analysis_summary(section);
+  } else {
+    const std::string error_name = problem->transient()
+                                       ? "relative error of the problem's main field"
+                                       : elasticity ? "relative L2 displacement error"
+                                                    : "relative L2 error";
+    md += ranking_block(section.studies, problem->resolution_name(), error_name);
+  }
+  md += verdict_lines(*problem, section, defaults);
+  md += fmt::format("\n**Details:** [{}]({}) — {}.\n\n", link, link,
+                    problem->analysis()
+                        ? "every case's verdicts and measured values, figures, CSV data and "
+                          "published values"
+                        : fmt::format("every resolution's errors, rates and CPU, plots, the "
+                                      "findings, published values{}",
+                                      vtk ? " and VTK files" : ""));
   return md;
 }
 

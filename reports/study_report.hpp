@@ -1,5 +1,7 @@
-/// The Markdown section of a problem's refinement studies: tables of errors, rates and CPU
-/// times per method × resolution, published values beside ours, convergence plots, VTK files.
+/// A problem's page of the report and its one-screen summary: the page problems/<slug>.md
+/// holds the detailed tables (errors, rates, CPU per method × resolution, published values,
+/// findings), plots and VTK links; index.md gets a heading, what the problem is, a method
+/// ranking, the verdict counts and a link to the page.
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -8,6 +10,7 @@
 
 #include "verify/case.hpp"
 #include "verify/catalogue.hpp"
+#include "verify/convergence.hpp"
 
 namespace mfv {
 
@@ -25,6 +28,11 @@ void add_to_sections(std::vector<ReportSection>& sections, StudyResult study);
 /// "laplace-tanh s=10" → "laplace-tanh-s-10": a file-name-safe slug.
 std::string slug(const std::string& text);
 
+/// The pages' directory inside a report, and the way back from a page to the report's root
+/// (plots/, vtk/, data/ and histories/ stay at the root; a page links to them through it).
+inline constexpr const char* kPagesDir = "problems";
+inline constexpr const char* kPageUp = "../";
+
 /// One published value next to our number for it.
 struct PublishedComparison {
   PublishedValue published;
@@ -33,24 +41,45 @@ struct PublishedComparison {
 };
 
 /// Every published value of the problem against every study that matches it: same method,
-/// resolved parameters containing the published ones, a case with the published node count.
+/// resolved parameters containing the published ones, a case with the published node count,
+/// the published problem parameters (a key the case left unset is compared at its value in
+/// `problem_defaults`, the problem's resolved defaults; without them it matches any value).
 /// Quantities: a headline name, "error u" (relative L2 on the common rule) or "error du/dx"
 /// (relative H1 seminorm).
 std::vector<PublishedComparison> compare_published(const Problem& problem,
-                                                   const std::vector<StudyResult>& studies);
-/// "### Published values beside ours": the comparisons as a table with the notes, values
-/// no study matched, and the problem's published_notes; empty without published values.
-std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies);
-/// "### The paper's findings and ours": each finding with its verdict on our studies.
+                                                   const std::vector<StudyResult>& studies,
+                                                   const Params& problem_defaults = {});
+
+/// One row of the published-values table: a published value (listed once however often the
+/// problem repeats it) with every study that measured it, first match first.
+struct PublishedRow {
+  PublishedValue published;
+  std::vector<std::pair<std::string, double>> ours;  ///< (study label, finite value)
+  /// Studies that matched the case but have no value for the quantity (not measured there).
+  std::vector<std::string> unmeasured;
+};
+/// The published values of the problem, deduplicated, each with what our studies measured.
+std::vector<PublishedRow> published_rows(const Problem& problem,
+                                         const std::vector<StudyResult>& studies,
+                                         const Params& problem_defaults = {});
+
+/// "## Published values beside ours": one row per published value measured here with ours,
+/// the paper's, the ratio ours/paper, the verdict of compare_value under the value's
+/// tolerance and numbered notes right under the table (the value's note, other studies that
+/// measured it); then the values not run in this suite, grouped, and the problem's
+/// published_notes. Empty without published values.
+std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
+                            const Params& problem_defaults = {});
+/// "## The paper's findings and ours": each finding with its verdict on our studies.
 std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies);
-/// The section of a transient problem (explicit dynamics): methods and engine settings,
+/// The page of a transient problem (explicit dynamics): methods and engine settings,
 /// findings, errors and CPU per case, rates, convergence and time-history plots, history
 /// CSV files, published values, and ParaView time series per case.
 std::string write_transient_section(const Catalogue& catalogue, const ReportSection& section,
                                     const std::string& title, const std::filesystem::path& dir,
                                     bool vtk);
 
-/// The section of an analysis problem (dispersion, time steps, enriched bars, stable-domain
+/// The page of an analysis problem (dispersion, time steps, enriched bars, stable-domain
 /// maps): cases, findings, verdicts and headline values, figures as SVG, tables as CSV.
 std::string write_analysis_section(const Catalogue& catalogue, const ReportSection& section,
                                    const std::string& title, const std::filesystem::path& dir);
@@ -59,21 +88,30 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
 using VtkPart = std::pair<std::string, std::function<void(const std::filesystem::path&,
                                                           const CaseResult&)>>;
 /// Writes vtk/<base>/<study>/n<nodes><suffix> for every part and resolution and a study.pvd
-/// stepping through the resolutions; returns the Markdown list of links to the .pvd files.
+/// whose time axis is the particle spacing h (ParaView's "time" steps through the
+/// resolutions, finest first); returns the Markdown list of links to the .pvd files,
+/// relative to a page (through kPageUp).
 std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
                                   const std::vector<StudyResult>& studies,
                                   const std::vector<VtkPart>& parts);
 
+/// The convergence judgement (verify/convergence.hpp) of `error` over a study's cases.
+ConvergenceJudgement judge_study(const StudyResult& study,
+                                 const std::function<double(const CaseResult&)>& error);
+
 /// Summaries of studies for a problem's findings (finest case, rates on the common rule).
 std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies);
 
-/// The section of a 2D (vector) problem; write_problem_section dispatches to it.
+/// The page of a 2D (vector) problem; write_problem_section dispatches to it.
 std::string write_elasticity_section(const Catalogue& catalogue, const ReportSection& section,
                                      const std::string& title, const std::filesystem::path& dir,
                                      bool vtk);
 
-/// Writes plots under `dir`/plots and VTK files under `dir`/vtk (when `vtk`), and returns the
-/// section's Markdown with links relative to `dir`.
+/// Writes the section's page `dir`/problems/<slug>.md (a new slug if a page of that name
+/// exists already), plots under `dir`/plots and VTK files under `dir`/vtk (when `vtk`), and
+/// returns the one-screen summary for index.md: heading, what the problem is, the method
+/// ranking at the finest resolution the studies share (analyses: each case's verdict), the
+/// findings' and published values' verdict counts, and the link to the page.
 std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk);
 

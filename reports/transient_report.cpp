@@ -35,7 +35,8 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
                                     const std::string& title, const fs::path& dir, bool vtk) {
   const auto problem = catalogue.problems.create(section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("## {}\n\n{}\n\nResolutions count {}.\n\n", title,
+  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\nResolutions count {}.\n\n",
+                               title,
                                catalogue.problems.entry(section.problem).description,
                                problem->resolution_name());
   md += "**Methods and time integration.**\n\n";
@@ -52,7 +53,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   for (const auto& s : section.studies)
     for (const auto& r : s.cases)
       for (const auto& [k, v] : r.headline) keys.insert(k);
-  md += "### Errors, time steps and CPU\n\n\"dt/crit\" is the step over the critical step "
+  md += "## Errors, time steps and CPU\n\n\"dt/crit\" is the step over the critical step "
         "2/ω_max of the method's own stiffness and lumped mass (power iteration); \"energy "
         "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
         "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
@@ -93,7 +94,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   for (const auto& s : section.studies) several = several || s.cases.size() > 1;
   fs::create_directories(dir / "plots");
   if (several) {
-    md += "### Convergence of the main error\n\nLeast-squares slope of ln(error) against "
+    md += "## Convergence of the main error\n\nLeast-squares slope of ln(error) against "
           "ln(h) and the slopes between successive resolutions (error: the problem's "
           "relative L2 error, for rod-pulse the velocity error at L/c).\n\n";
     MarkdownTable t({"method", "rate", "pairwise"}, {'l', 'r', 'r'});
@@ -105,11 +106,11 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_error plot skipped: {}_\n\n", *why);
     else
-      md += fmt::format("![error against h]({})\n\n", name);
+      md += fmt::format("![error against h]({}{})\n\n", kPageUp, name);
   }
 
   // Time histories of the finest case of each study: CSV and plots.
-  md += "### Time histories\n\nEnergy balance and probes of the finest case of each study "
+  md += "## Time histories\n\nEnergy balance and probes of the finest case of each study "
         "(CSV beside the plots).\n\n";
   fs::create_directories(dir / "histories");
   for (const auto& s : section.studies) {
@@ -118,28 +119,29 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
     const TimeHistory h = history_of(r.transient);
     const std::string stem = fmt::format("{}-{}-n{}", base, slug(s.label), r.spec.nodes);
     write_history_csv(dir / "histories" / (stem + ".csv"), h);
-    md += fmt::format("- `{}` ({} {}): [CSV](histories/{}.csv)", s.label, r.spec.nodes,
-                      problem->resolution_name(), stem);
+    md += fmt::format("- `{}` ({} {}): [CSV]({}histories/{}.csv)", s.label, r.spec.nodes,
+                      problem->resolution_name(), kPageUp, stem);
     const std::vector<std::string> energy = {"kinetic", "internal work", "external work",
                                              "energy balance"};
     std::vector<std::string> probes;
     for (std::size_t c = 5; c < h.columns.size(); ++c) probes.push_back(h.columns[c]);
     const std::string en = fmt::format("plots/{}-energy.svg", stem);
     if (!write_svg_plot(dir / en, history_plot(h, energy, s.label + ": energy", "energy")))
-      md += fmt::format(" · [energy plot]({})", en);
+      md += fmt::format(" · [energy plot]({}{})", kPageUp, en);
     if (!probes.empty()) {
       const std::string pr = fmt::format("plots/{}-probes.svg", stem);
       if (!write_svg_plot(dir / pr, history_plot(h, probes, s.label + ": probes", "value")))
-        md += fmt::format("\n\n  ![probes of {}]({})", s.label, pr);
+        md += fmt::format("\n\n  ![probes of {}]({}{})", s.label, kPageUp, pr);
     }
     md += "\n";
   }
   md += "\n";
 
-  md += published_block(*problem, section.studies);
+  md += published_block(*problem, section.studies,
+                        catalogue.problems.resolve(section.problem, Params{}));
 
   if (vtk) {
-    md += "### VTK time series\n\nParticles at their current positions with velocity, "
+    md += "## VTK time series\n\nParticles at their current positions with velocity, "
           "displacement, Cauchy stress and the problem's exact values and errors; open a "
           "`.pvd` in ParaView and play it.\n\n";
     for (const auto& s : section.studies)
@@ -155,8 +157,8 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
           w.write(pf);
         }
         w.finish();
-        md += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}/n{}.pvd)\n", s.label, r.spec.nodes, sub,
-                          r.spec.nodes, sub, r.spec.nodes);
+        md += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes, sub,
+                          r.spec.nodes, kPageUp, sub, r.spec.nodes);
       }
     md += "\n";
   }

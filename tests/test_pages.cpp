@@ -1,0 +1,410 @@
+/// The readable report: the shared convergence judgement (verify/convergence.hpp), the
+/// cantilever findings that use it, and the problem pages with their one-screen summaries.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "reports/plot.hpp"
+#include "reports/study_report.hpp"
+#include "temp_files.hpp"
+#include "verify/catalogue.hpp"
+#include "verify/convergence.hpp"
+
+namespace mfv {
+namespace {
+
+/// Errors at spacings h from a coarsest error and the pairwise rates between them.
+std::vector<double> errors_from_rates(double e0, const std::vector<double>& h,
+                                      const std::vector<double>& rates) {
+  std::vector<double> e{e0};
+  for (std::size_t i = 0; i < rates.size(); ++i)
+    e.push_back(e.back() * std::pow(h[i + 1] / h[i], rates[i]));
+  return e;
+}
+
+struct TrendCase {
+  const char* name;
+  std::vector<double> h;
+  std::vector<double> rates;  ///< pairwise, used to build the errors
+  Trend expected;
+  const char* reason_part;    ///< a piece of the reason that must be printed
+};
+
+class Judgement : public ::testing::TestWithParam<TrendCase> {};
+
+TEST_P(Judgement, TrendFollowsPairwiseRatesAndFinestError) {
+  const TrendCase& c = GetParam();
+  const auto e = errors_from_rates(1e-2, c.h, c.rates);
+  const ConvergenceJudgement j = judge_convergence(e, c.h);
+  EXPECT_EQ(trend_name(j.trend), std::string(trend_name(c.expected))) << j.reason;
+  ASSERT_EQ(j.pairwise.size(), c.rates.size());
+  for (std::size_t i = 0; i < c.rates.size(); ++i) EXPECT_NEAR(j.pairwise[i], c.rates[i], 1e-9);
+  EXPECT_NE(j.reason.find(c.reason_part), std::string::npos) << j.reason;
+  EXPECT_EQ(j.converges(), c.expected == Trend::converges);
+  if (c.expected != Trend::converges)
+    EXPECT_EQ(j.label().find("converges"), std::string::npos) << j.label();
+}
+
+// The cantilever's constant-support resolutions 5, 7, 9, 13 across the depth D = 12:
+// h = 3, 2, 1.5, 1. EFG ci there had pairwise rates 6.5, 9.2, −9.3 and a least-squares
+// slope of 1.9 — an error that rises 43× at the finest resolution is no convergence.
+const std::vector<double> kCantileverH{3, 2, 1.5, 1};
+INSTANTIATE_TEST_SUITE_P(
+    Cases, Judgement,
+    ::testing::Values(
+        TrendCase{"second_order", {1, 0.5, 0.25, 0.125}, {2, 2, 2}, Trend::converges,
+                  "finest error is the smallest"},
+        TrendCase{"preasymptotic_then_second_order", {1, 0.5, 0.25, 0.125}, {-0.3, 1.5, 2},
+                  Trend::converges, "pairwise rates -0.30, 1.50, 2.00"},
+        TrendCase{"efg_ci_constant_support", kCantileverH, {6.5, 9.2, -9.3}, Trend::erratic,
+                  "pairwise rates 6.50, 9.20, -9.30; finest error 43"},
+        TrendCase{"kbm_si_stagnating", {1, 0.5, 0.25, 0.125}, {1.0, 0.3, 0.05},
+                  Trend::stagnates, "the last below 0.5"},
+        TrendCase{"sph_constant_support_rising", kCantileverH, {-0.5, -0.6, -0.6},
+                  Trend::diverges, "the coarsest"},
+        TrendCase{"rising_at_the_end", {1, 0.5, 0.25, 0.125}, {0.5, -0.3, -1.0},
+                  Trend::diverges, "pairwise rates 0.50, -0.30, -1.00"},
+        TrendCase{"converged_to_roundoff_then_noise", {1, 0.5, 0.25, 0.125}, {8, 3, -1.5},
+                  Trend::erratic, "the smallest"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Judgement, MissingOrBadInputIsUndeterminedNeverConverges) {
+  const std::vector<double> h{1, 0.5, 0.25};
+  struct Bad {
+    std::vector<double> e, h;
+    const char* reason;
+  };
+  for (const Bad& b : std::vector<Bad>{
+           {{1e-2}, {1}, "fewer than two"},
+           {{}, {}, "fewer than two"},
+           {{1e-2, 2.5e-3}, h, "2 errors for 3 spacings"},
+           {{1e-2, NAN, 6e-4}, h, "is nan"},
+           {{1e-2, INFINITY, 6e-4}, h, "is inf"},
+           {{1e-2, 0, 6e-4}, h, "is 0"},
+           {{1e-2, -1e-3, 6e-4}, h, "is -0.001"},
+           {{1e-2, 2.5e-3, 6e-4}, {1, 0, 0.25}, "not positive"},
+           {{1e-2, 2.5e-3, 6e-4}, {1, 1, 0.25}, "do not decrease"},
+       }) {
+    const auto j = judge_convergence(b.e, b.h);
+    EXPECT_EQ(j.trend, Trend::undetermined) << b.reason;
+    EXPECT_FALSE(j.converges());
+    EXPECT_TRUE(std::isnan(j.fitted_rate));
+    EXPECT_NE(j.reason.find(b.reason), std::string::npos) << j.reason;
+  }
+}
+
+TEST(Judgement, LabelNamesTheRateOnlyWhenItConverges) {
+  const std::vector<double> h{1, 0.5, 0.25};
+  EXPECT_EQ(judge_convergence({1e-2, 2.5e-3, 6.25e-4}, h).label(), "converges (rate 2.00)");
+  const auto j = judge_convergence({1e-2, 1e-2 * 0.99, 1e-2 * 0.985}, h);
+  EXPECT_EQ(j.label().rfind("stagnates (", 0), 0u) << j.label();
+}
+
+/// The cantilever findings that say "converges" ask the judgement, not the slope.
+TEST(CantileverFindings, ConstantSupportConvergenceUsesTheJudgement) {
+  const Catalogue catalogue;
+  const auto p = catalogue.problems.create("cantilever");
+  auto verdict_of = [&](const StudySummary& s, const std::string& claim_start) {
+    for (const auto& f : p->findings())
+      if (f.claim.rfind(claim_start, 0) == 0) return f.check({s});
+    return Verdict{"no such finding", ""};
+  };
+  StudySummary efg;
+  efg.method = "efg-ci";
+  efg.label = "efg-ci radius=4.5";
+  efg.params.set("radius", 4.5);
+  efg.resolutions = 4;
+  efg.h = kCantileverH;
+  efg.l2_rel = errors_from_rates(1e-2, efg.h, {6.5, 9.2, -9.3});
+  efg.l2_rate = 1.9;  // the slope alone would pass
+  efg.l2_trend = judge_convergence(efg.l2_rel, efg.h);
+  const Verdict v = verdict_of(efg, "EFG with cell integration converges");
+  EXPECT_EQ(v.status, "not reproduced") << v.ours;
+  EXPECT_NE(v.ours.find("erratic"), std::string::npos) << v.ours;
+
+  efg.l2_rel = errors_from_rates(1e-2, efg.h, {2, 2, 2});
+  efg.l2_trend = judge_convergence(efg.l2_rel, efg.h);
+  EXPECT_EQ(verdict_of(efg, "EFG with cell integration converges").status, "reproduced");
+
+  StudySummary sph = efg;
+  sph.method = "sph";
+  sph.label = "sph radius=4.5";
+  EXPECT_EQ(verdict_of(sph, "SPH converges when the support").status, "reproduced");
+  sph.l2_rel = errors_from_rates(1e-2, sph.h, {-0.5, -0.6, -0.6});
+  sph.l2_trend = judge_convergence(sph.l2_rel, sph.h);
+  sph.l2_rate = 0.6;
+  EXPECT_EQ(verdict_of(sph, "SPH converges when the support").status, "not reproduced");
+}
+
+// ------------------------------------------------------------------ problem pages
+
+namespace fs = std::filesystem;
+using test::read_file;
+using test::TempDir;
+
+const Catalogue& catalogue() {
+  static const Catalogue c;
+  return c;
+}
+
+/// A laplace-tanh study of `method` at `nodes` with second-order errors, CPU times and the
+/// headline 004 II Table 1 prints (peak du/dx at x = 3), unless `with_peak` is false.
+StudyResult laplace_study(const std::string& label, const std::string& method,
+                          const std::vector<int>& nodes, double scale, bool with_peak = true) {
+  StudyResult s;
+  s.label = label;
+  for (int n : nodes) {
+    CaseResult c;
+    c.spec.problem = "laplace-tanh";
+    c.spec.method = method;
+    c.spec.nodes = n;
+    c.method_description = method + " (synthetic)";
+    c.h = 6.0 / (n - 1);
+    c.errors.l2 = c.errors.l2_rel = scale * c.h * c.h;
+    c.errors.h1_semi = c.errors.h1_semi_rel = scale * c.h;
+    c.cpu.assembly = 1e-4 * n;
+    if (with_peak) c.headline["peak du/dx at x=3"] = 10 - 30.0 / n;
+    s.cases.push_back(c);
+  }
+  std::vector<double> h, e;
+  for (const auto& c : s.cases) {
+    h.push_back(c.h);
+    e.push_back(c.errors.l2);
+  }
+  s.rates.l2 = s.rates.h1_semi = 2;
+  return s;
+}
+
+ReportSection laplace_section() {
+  ReportSection section;
+  section.problem = "laplace-tanh";
+  section.studies.push_back(laplace_study("fem-a", "fem", {21, 41, 81, 161, 241}, 1.0));
+  // Matches the same published FEM values: one row each, the second study in a note.
+  section.studies.push_back(laplace_study("fem-b", "fem", {21, 41, 81, 161}, 3.0));
+  return section;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+/// The rows of the Markdown table that follows `heading` in `md`.
+std::vector<std::string> table_after(const std::string& md, const std::string& heading) {
+  const auto at = md.find(heading);
+  if (at == std::string::npos) return {};
+  std::vector<std::string> rows;
+  bool in_table = false;
+  for (const auto& l : lines_of(md.substr(at))) {
+    if (l.starts_with("|")) {
+      in_table = true;
+      rows.push_back(l);
+    } else if (in_table) {
+      break;
+    }
+  }
+  return rows.size() >= 2 ? std::vector<std::string>(rows.begin() + 2, rows.end()) : rows;
+}
+
+/// The trimmed cells of a Markdown table row.
+std::vector<std::string> cells(const std::string& row) {
+  std::vector<std::string> out;
+  std::size_t start = 1;
+  for (std::size_t bar = row.find('|', start); bar != std::string::npos;
+       start = bar + 1, bar = row.find('|', start)) {
+    std::string c = row.substr(start, bar - start);
+    c.erase(0, c.find_first_not_of(' '));
+    c.erase(c.find_last_not_of(' ') + 1);
+    out.push_back(c);
+  }
+  return out;
+}
+
+TEST(ProblemPage, IsWrittenAndLinkedFromASmallSummary) {
+  TempDir dir("mfv-pages");
+  const ReportSection section = laplace_section();
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  const fs::path page = dir.path() / "problems" / "laplace-tanh.md";
+  ASSERT_TRUE(fs::exists(page));
+  EXPECT_NE(summary.find("## laplace-tanh"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("](problems/laplace-tanh.md)"), std::string::npos) << summary;
+  // One screen: the ranking and counts, not the per-resolution tables.
+  EXPECT_LT(summary.size(), 2500u) << summary;
+  EXPECT_LT(lines_of(summary).size(), 25u) << summary;
+  EXPECT_EQ(summary.find("### "), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("Errors and CPU times"), std::string::npos);
+
+  const std::string text = read_file(page);
+  EXPECT_EQ(text.rfind("# laplace-tanh", 0), 0u) << text.substr(0, 200);
+  EXPECT_NE(text.find("](../index.md)"), std::string::npos);
+  EXPECT_NE(text.find("## Errors and CPU times"), std::string::npos);
+  EXPECT_NE(text.find("## Convergence rates"), std::string::npos);
+  // Every link of the page into the report's folders goes up from problems/.
+  for (const char* folder : {"(plots/", "(vtk/", "(data/", "(histories/"})
+    EXPECT_EQ(text.find(folder), std::string::npos) << folder;
+  if (gnuplot_available()) {
+    EXPECT_NE(text.find("](../plots/laplace-tanh-l2.svg)"), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir.path() / "plots" / "laplace-tanh-l2.svg"));
+  }
+}
+
+TEST(ProblemPage, RankingIsAtTheFinestCommonResolutionBestFirst) {
+  TempDir dir("mfv-pages");
+  const std::string summary =
+      write_problem_section(catalogue(), laplace_section(), dir.path(), false);
+  EXPECT_NE(summary.find("at 161 nodes (the finest resolution all studies share)"),
+            std::string::npos)
+      << summary;
+  const auto rows = table_after(summary, "Ranked by");
+  ASSERT_EQ(rows.size(), 2u) << summary;
+  EXPECT_EQ(rows[0].find("| fem-a "), 0u) << rows[0];  // 3× smaller errors
+  EXPECT_NE(rows[0].find("(241)"), std::string::npos) << "fem-a goes further: " << rows[0];
+  EXPECT_NE(rows[0].find("2.00 (converges)"), std::string::npos) << rows[0];
+  EXPECT_NE(summary.find("digits/s"), std::string::npos);
+  EXPECT_NE(summary.find("Published values (5 compared)"), std::string::npos) << summary;
+}
+
+TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
+  TempDir dir("mfv-pages");
+  ReportSection section = laplace_section();
+  // A study that matches the RKPM values' method and nodes but does not measure the peak.
+  StudyResult rkpm = laplace_study("rkpm-no-peak", "rkpm", {21}, 1.0, false);
+  rkpm.cases[0].method_params.set("kernel", "gaussian");
+  rkpm.cases[0].method_params.set("j", 1.0);
+  section.studies.push_back(rkpm);
+  write_problem_section(catalogue(), section, dir.path(), false);
+  const std::string page = read_file(dir.path() / "problems" / "laplace-tanh.md");
+  const auto rows = table_after(page, "## Published values beside ours");
+  ASSERT_EQ(rows.size(), 5u) << page;  // the five FEM values of Table 1, once each
+  std::set<std::string> unique(rows.begin(), rows.end());
+  EXPECT_EQ(unique.size(), rows.size());
+  for (const auto& r : rows) {
+    EXPECT_NE(r.find("| fem "), std::string::npos) << r;
+    EXPECT_NE(r.find("| fem-a "), std::string::npos) << "first matching study: " << r;
+    EXPECT_NE(r.find(" 5% | "), std::string::npos) << r;
+    EXPECT_TRUE(r.find("| reproduced ") != std::string::npos ||
+                r.find("| partly ") != std::string::npos ||
+                r.find("| not reproduced ") != std::string::npos)
+        << r;
+    EXPECT_EQ(r.find("| – "), std::string::npos) << "no empty cell: " << r;
+  }
+  // 241 nodes: ours 10 − 30/241 = 9.8755 against 9.7967, ratio 1.01 → reproduced at 5%.
+  EXPECT_EQ(cells(rows[4]), (std::vector<std::string>{
+                                "004 II Table 1", "peak du/dx at x=3", "fem", "241", "9.7967",
+                                "9.8755", "1.01", "5%", "reproduced", "fem-a", ""}))
+      << rows[4];
+  // The second study's values are a numbered note right under the table, not a row.
+  EXPECT_NE(page.find("[1] also `fem-b`: ours"), std::string::npos) << page;
+  // Values no study measured are listed apart, the unmeasuring study named.
+  EXPECT_NE(page.find("**Not run or not measured in this suite**"), std::string::npos);
+  EXPECT_NE(page.find("rkpm j=1,kernel=gaussian: peak du/dx at x=3 (`rkpm-no-peak` ran there "
+                      "but does not measure it) at 21 nodes"),
+            std::string::npos)
+      << page;
+}
+
+TEST(ProblemPage, ASecondSectionOfTheSameTitleGetsItsOwnPage) {
+  TempDir dir("mfv-pages");
+  write_problem_section(catalogue(), laplace_section(), dir.path(), false);
+  const std::string second =
+      write_problem_section(catalogue(), laplace_section(), dir.path(), false);
+  EXPECT_TRUE(fs::exists(dir.path() / "problems" / "laplace-tanh-2.md"));
+  EXPECT_NE(second.find("](problems/laplace-tanh-2.md)"), std::string::npos) << second;
+}
+
+TEST(ProblemPage, StudyCollectionsStepThroughTheSpacing) {
+  TempDir dir("mfv-pages");
+  const ReportSection section = laplace_section();
+  const std::string links = write_vtk_collections(
+      dir.path(), "lt", {section.studies[0]},
+      {{".txt", [](const fs::path& p, const CaseResult&) { std::ofstream(p) << "x"; }}});
+  EXPECT_NE(links.find("(../vtk/lt/fem-a/study.pvd)"), std::string::npos) << links;
+  EXPECT_NE(links.find("time = h: 0.3, 0.15, 0.075, 0.0375, 0.025"), std::string::npos)
+      << links;
+  const std::string pvd = read_file(dir.path() / "vtk" / "lt" / "fem-a" / "study.pvd");
+  EXPECT_NE(pvd.find("timestep=\"0.3\""), std::string::npos) << pvd;
+  EXPECT_NE(pvd.find("timestep=\"0.025\""), std::string::npos) << pvd;
+}
+
+TEST(Summaries, CarryPerResolutionErrorsAndTheirTrend) {
+  const auto s = summarize({laplace_study("fem-a", "fem", {21, 41, 81}, 1.0)});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].h.size(), 3u);
+  EXPECT_EQ(s[0].l2_rel.size(), 3u);
+  EXPECT_TRUE(s[0].l2_trend.converges()) << s[0].l2_trend.reason;
+  ASSERT_EQ(s[0].l2_trend.pairwise.size(), 2u);
+  EXPECT_NEAR(s[0].l2_trend.pairwise[0], 2.0, 1e-9);
+}
+
+// ------------------------------------------------------------------ plots
+
+PlotSpec many_studies_plot(int studies, double rate) {
+  std::vector<StudyResult> all;
+  for (int k = 0; k < studies; ++k) {
+    StudyResult s = laplace_study("method-" + std::to_string(k), "fem", {21, 41, 81}, 1.0 + k);
+    s.rates.l2 = rate;
+    all.push_back(s);
+  }
+  return convergence_plot("t", all, "relative L2 error (dimensionless)",
+                          [](const CaseResult& c) { return c.errors.l2_rel; },
+                          [](const Rates& r) { return r.l2; });
+}
+
+TEST(PlotScript, LegendOutsideDistinctColoursAndReferenceSlopes) {
+  const PlotSpec spec = many_studies_plot(kPaletteSize, 4.2);
+  EXPECT_EQ(spec.reference_slopes, (std::vector<int>{1, 2, 4}));
+  const std::string gp = gnuplot_script(spec);
+  EXPECT_NE(gp.find("set key outside right"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("set logscale x"), std::string::npos);
+  EXPECT_NE(gp.find("set logscale y"), std::string::npos);
+  for (const char* ref : {"'∝ h¹ (reference)'", "'∝ h² (reference)'", "'∝ h⁴ (reference)'"})
+    EXPECT_NE(gp.find(ref), std::string::npos) << ref;
+  std::set<std::string> colours;
+  for (const auto& l : lines_of(gp))
+    if (l.starts_with("set style line"))
+      colours.insert(l.substr(l.find("rgb '") + 5, 7));
+  EXPECT_EQ(colours.size(), static_cast<std::size_t>(kPaletteSize));
+  // Axis labels name their units.
+  EXPECT_NE(gp.find("h (length unit of x)"), std::string::npos);
+  EXPECT_NE(gp.find("(dimensionless)"), std::string::npos);
+}
+
+TEST(PlotScript, SlopesAreOnlyDrawnOnLogLogAndSeriesPastThePaletteAreDashed) {
+  PlotSpec spec = many_studies_plot(kPaletteSize + 1, 1.0);
+  EXPECT_EQ(spec.reference_slopes, (std::vector<int>{1, 2}));
+  std::string gp = gnuplot_script(spec);
+  EXPECT_NE(gp.find(fmt::format("set style line {} lc rgb", kPaletteSize + 1)), std::string::npos);
+  EXPECT_NE(gp.find("dt 2\n"), std::string::npos) << "the 21st series is dashed";
+  spec.logx = false;
+  gp = gnuplot_script(spec);
+  EXPECT_EQ(gp.find("(reference)"), std::string::npos) << gp;
+}
+
+TEST(PlotScript, LinearAxisTurnsLogarithmicWhenValuesSpanDecades) {
+  PlotSpec spec;
+  spec.xlabel = "t (s)";
+  spec.ylabel = "energy (J)";
+  spec.series.push_back({"wide", {0, 1, 2}, {1, 1e2, 1e4}});
+  EXPECT_NE(gnuplot_script(spec).find("set logscale y"), std::string::npos);
+  spec.series[0].y = {1, 10, 100};  // two decades: stays linear
+  EXPECT_EQ(gnuplot_script(spec).find("set logscale y"), std::string::npos);
+  spec.series[0].y = {0, 1e2, 1e4};  // a zero cannot go on a log axis
+  EXPECT_EQ(gnuplot_script(spec).find("set logscale y"), std::string::npos);
+  spec.series[0].y = {1, 1e2, 1e4};
+  spec.auto_logy = false;
+  EXPECT_EQ(gnuplot_script(spec).find("set logscale y"), std::string::npos);
+  spec.series[0].y = {NAN, NAN, NAN};
+  EXPECT_EQ(gnuplot_script(spec), "") << "nothing left to plot";
+}
+
+}  // namespace
+}  // namespace mfv
