@@ -221,7 +221,10 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     r["paper"] = row.paper;
     if (row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure) {
       r["tolerance"] = row.tolerance;
-      r["compare"] = row.compare == CompareBy::ratio ? "ratio" : "difference";
+      r["compare"] = row.bound == LedgerRow::Bound::at_least ? "at_least"
+                     : row.bound == LedgerRow::Bound::at_most ? "at_most"
+                     : row.compare == CompareBy::ratio        ? "ratio"
+                                                              : "difference";
       json ours = json::array(), ratio = json::array(), diff = json::array();
       for (std::size_t k = 0; k < e.ours.size(); ++k)
         ours.push_back(n.number(e.ours[k], fmt::format("{}/ours/{}", p, k),
