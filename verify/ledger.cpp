@@ -126,8 +126,8 @@ const ManifestCase* find_case(const Manifest& m, const std::string& id) {
   return nullptr;
 }
 
-/// The published values a row names: exactly one per node count, with the row's value and
-/// tolerance (throws otherwise).
+/// The published values a row names: at least one per node count with the row's value (two
+/// sources may print the same number), and the row's tolerance (throws otherwise).
 void check_published(const Reporter& r, const LedgerRow& row, const Catalogue& catalogue) {
   const auto problem = catalogue.problems.create(row.problem, row.problem_params);
   const Params resolved = catalogue.methods.resolve(row.method, row.method_params);
