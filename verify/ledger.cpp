@@ -167,10 +167,13 @@ std::string fmt_value(double v) {
   return fmt::format("{:.5g}", v);
 }
 
-std::string join_values(const std::vector<double>& v) {
+/// Values for people (5 digits), or for machines (`exact`: round-trip precision, empty for
+/// a missing value).
+std::string join_values(const std::vector<double>& v, bool exact = false) {
   std::vector<std::string> s;
-  for (double x : v) s.push_back(fmt_value(x));
-  return fmt::format("{}", fmt::join(s, ", "));
+  for (double x : v)
+    s.push_back(!exact ? fmt_value(x) : std::isfinite(x) ? fmt::format("{}", x) : "");
+  return fmt::format("{}", fmt::join(s, exact ? ";" : ", "));
 }
 
 /// One row's value of a measure in a study: a least-squares rate or a headline at the finest.
@@ -672,7 +675,8 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     const std::vector<std::string> fields = {
-        row.id, row.source, row.claim, case_text(row), join_values(row.paper), ours_text(e),
+        row.id, row.source, row.claim, case_text(row), join_values(row.paper, true),
+        row.kind == LedgerRow::Kind::finding ? ours_text(e) : join_values(e.ours, true),
         comparison_text(e),
         row.kind == LedgerRow::Kind::finding ? e.criterion
         : row.tolerance > 0                  ? fmt::format("{:g}", row.tolerance)
