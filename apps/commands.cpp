@@ -96,8 +96,10 @@ constexpr const char* kProblemsToc = "<!-- mfv: problems toc -->";
 std::string heading_anchor(const std::string& heading) {
   std::string out;
   for (unsigned char ch : heading) {
-    if (ch >= 0x80 || std::isalnum(ch) || ch == '-' || ch == '_') out += static_cast<char>(std::tolower(ch));
-    else if (ch == ' ') out += '-';
+    if (ch >= 0x80 || std::isalnum(ch) || ch == '-' || ch == '_')
+      out += static_cast<char>(std::tolower(ch));
+    else if (ch == ' ')
+      out += '-';
   }
   return out;
 }

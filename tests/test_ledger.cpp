@@ -308,5 +308,47 @@ TEST(Ledger, AStatedReadingIsNamedInTheVerdict) {
   EXPECT_EQ(e[0].verdict, kReproducedReading);
 }
 
+TEST(Ledger, AMissingLedgerFileIsNamed) {
+  Fixture f(kGoodRows);
+  fs::remove(f.ledger_path);
+  try {
+    f.load();
+    FAIL() << "a missing ledger was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(f.ledger_path.string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(Ledger, AFindingThatDoesNotExistYetIsOpenNotAnError) {
+  const Fixture f(std::string(kGoodRows) + R"(
+[[row]]
+id = "fig3"
+source = "004 II Fig. 3"
+claim = "SPH Galerkin boundary gradient"
+finding = "laplace-tanh:no-such-finding"
+)");
+  const Ledger l = f.load();
+  const StudyResult close = fake_study("laplace-tanh", {21, 41}, {3.32, 6.03}, 1.97);
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&close, ""}}});
+  EXPECT_EQ(e.back().verdict, kNotYetBuilt);
+  EXPECT_NE(e.back().why.find("no-such-finding"), std::string::npos);
+}
+
+TEST(Ledger, AOneSidedClaimAcceptsAnythingOnItsSide) {
+  const Fixture f(replace(replace(kGoodRows, "nodes = [21, 41]\npaper = [3.3168, 6.0343]",
+                                  "nodes = [21]\npaper = [3.3168]"),
+                          "tolerance = 0.05\n", "tolerance = 0.05\ncompare = \"at_least\"\n"));
+  const Ledger l = f.load();
+  auto verdict = [&](double ours) {
+    const StudyResult s = fake_study("laplace-tanh", {21, 41}, {ours, 6.0}, 2.0);
+    return evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&s, ""}}})[0].verdict;
+  };
+  EXPECT_EQ(verdict(10.0), kReproduced);  // far above a lower bound still keeps it
+  EXPECT_EQ(verdict(3.2), kReproduced);   // within 5% below
+  EXPECT_EQ(verdict(3.0), kPartly);       // within 15% below
+  EXPECT_EQ(verdict(2.0), kNotReproduced);
+  EXPECT_EQ(verdict(NAN), kNotReached);
+}
+
 }  // namespace
 }  // namespace mfv

@@ -64,6 +64,11 @@ TEST(ResultsJson, CompareWritesAValidResultsFile) {
   EXPECT_EQ(fem["rates"]["common"]["l2"]["pairwise"].size(), 1u);
   EXPECT_TRUE(fem["resolutions"][0]["headline"].contains("peak du/dx at x=3"));
   EXPECT_TRUE(fem["method_params"].is_object());
+  // Table 1's FEM column at 21 and 41 nodes, with ours and a computed verdict.
+  ASSERT_EQ(fem["published"].size(), 2u);
+  EXPECT_EQ(fem["published"][0]["source"], "004 II Table 1");
+  EXPECT_EQ(fem["published"][0]["verdict"], "reproduced");
+  EXPECT_TRUE(doc["findings"].is_array());
 }
 
 TEST(ResultsJson, NonFiniteNumbersAreNullWithAReason) {

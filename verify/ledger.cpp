@@ -126,8 +126,8 @@ const ManifestCase* find_case(const Manifest& m, const std::string& id) {
   return nullptr;
 }
 
-/// The published values a row names: exactly one per node count, with the row's value and
-/// tolerance (throws otherwise).
+/// The published values a row names: at least one per node count with the row's value (two
+/// sources may print the same number), and the row's tolerance (throws otherwise).
 void check_published(const Reporter& r, const LedgerRow& row, const Catalogue& catalogue) {
   const auto problem = catalogue.problems.create(row.problem, row.problem_params);
   const Params resolved = catalogue.methods.resolve(row.method, row.method_params);
@@ -167,10 +167,13 @@ std::string fmt_value(double v) {
   return fmt::format("{:.5g}", v);
 }
 
-std::string join_values(const std::vector<double>& v) {
+/// Values for people (5 digits), or for machines (`exact`: round-trip precision, empty for
+/// a missing value).
+std::string join_values(const std::vector<double>& v, bool exact = false) {
   std::vector<std::string> s;
-  for (double x : v) s.push_back(fmt_value(x));
-  return fmt::format("{}", fmt::join(s, ", "));
+  for (double x : v)
+    s.push_back(!exact ? fmt_value(x) : std::isfinite(x) ? fmt::format("{}", x) : "");
+  return fmt::format("{}", fmt::join(s, exact ? ";" : ", "));
 }
 
 /// One row's value of a measure in a study: a least-squares rate or a headline at the finest.
@@ -183,6 +186,16 @@ double measure_value(const StudyResult& s, const std::string& measure) {
     return it == s.cases.back().headline.end() ? NAN : it->second;
   }
   return NAN;
+}
+
+/// compare_value, with one-sided rows judged only on the side the claim excludes.
+Comparison compare_row(double ours, double paper, const LedgerRow& row) {
+  Comparison c = compare_value(ours, paper, row.tolerance, row.compare);
+  if (row.bound == LedgerRow::Bound::none || c.verdict == kNotReached) return c;
+  const double tol = row.tolerance * std::abs(paper);
+  const double excess = row.bound == LedgerRow::Bound::at_least ? paper - ours : ours - paper;
+  c.verdict = excess <= tol ? kReproduced : excess <= 3 * tol ? kPartly : kNotReproduced;
+  return c;
 }
 
 /// Combines per-value verdicts: all reproduced → reproduced, none even partly → not
@@ -312,9 +325,12 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     }
     const std::string compare = get_string(r, *t, "compare", false, row.line);
     if (compare == "difference") row.compare = CompareBy::difference;
+    else if (compare == "at_least") row.bound = LedgerRow::Bound::at_least;
+    else if (compare == "at_most") row.bound = LedgerRow::Bound::at_most;
     else if (!compare.empty() && compare != "ratio")
-      r.fail(row.line, fmt::format("compare = \"{}\" is neither ratio nor difference", compare),
-             "write compare = \"ratio\" or \"difference\"");
+      r.fail(row.line, fmt::format("compare = \"{}\" is not ratio, difference, at_least or at_most",
+                                   compare),
+             "write compare = \"ratio\", \"difference\", \"at_least\" or \"at_most\"");
 
     // The kind, and what it needs.
     const int kinds = !row.published_source.empty() + !row.measure.empty() + !finding.empty();
@@ -444,7 +460,7 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
             }
           if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
           e.ours.push_back(ours);
-          e.compared.push_back(compare_value(ours, row.paper[i], row.tolerance, row.compare));
+          e.compared.push_back(compare_row(ours, row.paper[i], row));
         }
         e.verdict = combine(e.compared);
         if (!it->second.study)
@@ -473,7 +489,7 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
           break;
         }
         e.ours = {best};
-        e.compared = {compare_value(best, row.paper[0], row.tolerance, row.compare)};
+        e.compared = {compare_row(best, row.paper[0], row)};
         e.verdict = e.compared[0].verdict;
         if (!failed.empty()) e.why = fmt::format("could not run: {}", fmt::join(failed, ", "));
         break;
@@ -554,6 +570,10 @@ std::string tolerance_text(const LedgerEntry& e) {
   const LedgerRow& row = *e.row;
   if (row.kind == LedgerRow::Kind::finding) return e.criterion;
   if (!(row.tolerance > 0)) return "–";
+  if (row.bound == LedgerRow::Bound::at_least)
+    return fmt::format("≥ paper − {:g}%", 100 * row.tolerance);
+  if (row.bound == LedgerRow::Bound::at_most)
+    return fmt::format("≤ paper + {:g}%", 100 * row.tolerance);
   return row.compare == CompareBy::ratio ? fmt::format("±{:g}%", 100 * row.tolerance)
                                          : fmt::format("±{:g}", row.tolerance);
 }
@@ -655,12 +675,15 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     const std::vector<std::string> fields = {
-        row.id, row.source, row.claim, case_text(row), join_values(row.paper), ours_text(e),
+        row.id, row.source, row.claim, case_text(row), join_values(row.paper, true),
+        row.kind == LedgerRow::Kind::finding ? ours_text(e) : join_values(e.ours, true),
         comparison_text(e),
         row.kind == LedgerRow::Kind::finding ? e.criterion
         : row.tolerance > 0                  ? fmt::format("{:g}", row.tolerance)
                                              : "",
         row.kind == LedgerRow::Kind::finding ? "finding"
+        : row.bound == LedgerRow::Bound::at_least ? "at_least"
+        : row.bound == LedgerRow::Bound::at_most  ? "at_most"
         : row.compare == CompareBy::ratio    ? "ratio"
                                              : "difference",
         e.verdict, e.why};

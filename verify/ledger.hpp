@@ -21,7 +21,9 @@
 //   nodes = [21, 41]                     # PublishedValue::nodes, one per paper value
 //   paper = [3.3168, 6.0343]             # PublishedValue::value, in the order of nodes
 //   tolerance = 0.05                     # PublishedValue::tolerance
-//   compare = "ratio"                    # or "difference" (default ratio)
+//   compare = "ratio"                    # or "difference" (default ratio), or a one-sided
+//                                        # claim: "at_least" (ours ≥ paper·(1 − tolerance))
+//                                        # or "at_most" (ours ≤ paper·(1 + tolerance))
 //   # (2) a number the paper states that no problem holds (rates "up to 15.92"):
 //   cases = ["laplace-tanh/a", "laplace-tanh/b"]  # ours = the largest measure over them
 //   measure = "l2_rate"                  # l2_rate, h1_rate, energy_rate or headline:<name>
@@ -71,6 +73,9 @@ struct LedgerRow {
   std::vector<double> paper;
   double tolerance = 0;
   CompareBy compare = CompareBy::ratio;
+  /// A one-sided claim ("keeps at least 84 %"): ours may lie anywhere on the stated side;
+  /// the tolerance (relative) applies only on the other. 0: two-sided.
+  enum class Bound { none, at_least, at_most } bound = Bound::none;
   std::string measure;  ///< measure rows
   std::string finding;  ///< finding rows: the Finding::id
 };

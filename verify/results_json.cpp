@@ -1,9 +1,11 @@
 #include "verify/results_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "reports/study_report.hpp"
 #include "verify/catalogue.hpp"
 
 namespace mfv {
@@ -104,6 +106,79 @@ json rates_json(const Rates& r, int components, Measured m, const std::string& a
   return out;
 }
 
+bool contains_params(const Params& resolved, const Params& wanted) {
+  for (const auto& [k, v] : wanted.values())
+    if (!resolved.has(k) || format_value(resolved.values().at(k)) != format_value(v)) return false;
+  return true;
+}
+
+/// The problem's published values this study measures, each with ours and the verdict of
+/// verify/comparison.hpp under the value's own tolerance.
+json published_json(const Catalogue& catalogue, const StudyResult& study, const std::string& at,
+                    JsonNumbers& n) {
+  json out = json::array();
+  const CaseResult& first = study.cases.front();
+  if (!catalogue.problems.contains(first.spec.problem)) return out;
+  const auto problem = catalogue.problems.create(first.spec.problem, first.spec.problem_params);
+  const Params pp = catalogue.problems.resolve(first.spec.problem, first.spec.problem_params);
+  for (const auto& pv : problem->published()) {
+    if (pv.method != first.spec.method || !contains_params(first.method_params, pv.method_params))
+      continue;
+    bool same_problem = true;
+    for (const auto& [k, v] : pv.problem_params.values())
+      if (pp.has(k) && format_value(pp.values().at(k)) != format_value(v)) same_problem = false;
+    if (!same_problem) continue;
+    for (const auto& r : study.cases) {
+      if (r.spec.nodes != pv.nodes) continue;
+      const std::string p = fmt::format("{}/{}", at, out.size());
+      const double ours = our_published_value(r, pv.quantity);
+      const Comparison c = compare_value(ours, pv.value, pv.tolerance);
+      out.push_back({{"source", pv.source},
+                     {"quantity", pv.quantity},
+                     {"nodes", pv.nodes},
+                     {"paper", pv.value},
+                     {"ours", n.number(ours, p + "/ours", "the case did not compute or reach it")},
+                     {"ratio", n.number(c.ratio, p + "/ratio", "ours is missing or the paper's is 0")},
+                     {"tolerance", pv.tolerance},
+                     {"verdict", c.verdict},
+                     {"note", pv.note}});
+    }
+  }
+  return out;
+}
+
+/// Every finding of the studies' problems, checked on those studies.
+json findings_json(const Catalogue& catalogue, const std::vector<StudyResult>& studies) {
+  json out = json::array();
+  std::vector<std::string> problems;
+  for (const auto& s : studies)
+    if (!s.cases.empty() &&
+        std::find(problems.begin(), problems.end(), s.cases.front().spec.problem) == problems.end())
+      problems.push_back(s.cases.front().spec.problem);
+  for (const auto& name : problems) {
+    if (!catalogue.problems.contains(name)) continue;
+    std::vector<StudyResult> mine;
+    Params params;
+    for (const auto& s : studies)
+      if (!s.cases.empty() && s.cases.front().spec.problem == name) {
+        if (mine.empty()) params = s.cases.front().spec.problem_params;
+        mine.push_back(s);
+      }
+    const auto problem = catalogue.problems.create(name, params);
+    for (const auto& f : problem->findings()) {
+      const Verdict v = f.check(summarize(mine));
+      out.push_back({{"problem", name},
+                     {"id", f.id},
+                     {"source", f.source},
+                     {"claim", f.claim},
+                     {"criterion", f.criterion},
+                     {"verdict", v.status},
+                     {"ours", v.ours}});
+    }
+  }
+  return out;
+}
+
 json run_json(const RunInfo& run) {
   return {{"kind", run.kind},
           {"generated_utc", run.generated_utc},
@@ -174,6 +249,7 @@ json study_json(const Catalogue& catalogue, const StudyResult& study, const std:
     resolutions.push_back(std::move(res));
   }
   out["resolutions"] = std::move(resolutions);
+  out["published"] = published_json(catalogue, study, at + "/published", n);
   const Measured m = measured(first);
   out["rates"] = {{"common", rates_json(study.rates, comps, m, at + "/rates/common", n)},
                   {"paper", rates_json(study.rates_paper, comps, m, at + "/rates/paper", n)}};
@@ -189,6 +265,7 @@ std::string results_json(const Catalogue& catalogue, const RunInfo& run,
   for (std::size_t i = 0; i < studies.size(); ++i)
     list.push_back(study_json(catalogue, studies[i], fmt::format("/studies/{}", i), n));
   doc["studies"] = std::move(list);
+  doc["findings"] = findings_json(catalogue, studies);
   doc["failures"] = failures;
   doc["nulls"] = n.nulls();
   return doc.dump(1) + "\n";
@@ -221,7 +298,10 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     r["paper"] = row.paper;
     if (row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure) {
       r["tolerance"] = row.tolerance;
-      r["compare"] = row.compare == CompareBy::ratio ? "ratio" : "difference";
+      r["compare"] = row.bound == LedgerRow::Bound::at_least ? "at_least"
+                     : row.bound == LedgerRow::Bound::at_most ? "at_most"
+                     : row.compare == CompareBy::ratio        ? "ratio"
+                                                              : "difference";
       json ours = json::array(), ratio = json::array(), diff = json::array();
       for (std::size_t k = 0; k < e.ours.size(); ++k)
         ours.push_back(n.number(e.ours[k], fmt::format("{}/ours/{}", p, k),
