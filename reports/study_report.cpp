@@ -471,6 +471,19 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
     rows.push_back(std::move(r));
   }
   if (rows.empty()) return "";
+  const bool any_error = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
+    for (const auto& s : {r.at, r.finest})
+      if (std::isfinite(s->errors.l2_rel) && s->errors.l2_rel > 0) return true;
+    return false;
+  });
+  if (!any_error) {
+    double cpu = 0;
+    for (const auto& s : studies)
+      for (const auto& c : s.cases) cpu += c.cpu.total();
+    return fmt::format("No {} is measured for this problem (its findings judge what the "
+                       "studies show); {} stud{}, {:.3f} CPU s in all.\n\n",
+                       error_name, rows.size(), rows.size() == 1 ? "y" : "ies", cpu);
+  }
   // Best first; an error that is missing, not finite or exactly 0 (nothing measured: no
   // floating-point solution is exact) goes last.
   const auto measured = [](const Row& r) {
@@ -484,12 +497,11 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
   const std::string at =
       common > 0 ? fmt::format("{} {}", common, resolution) : std::string("each study's finest");
   std::string md = fmt::format(
-      "Ranked by the {} at {}{}. Rate: least-squares slope of ln e against ln h, with the "
-      "trend judged from the pairwise rates and the finest error; CPU: seconds of that case; "
-      "digits/s: correct digits −log₁₀(error) per CPU second there (higher is better; below "
-      "10 ms CPU times are noisy).\n\n",
+      "Ranked by the {} at {}{}; rate: least-squares slope, with the trend judged from the "
+      "pairwise rates and the finest error; CPU s of that case; digits/s: −log₁₀(error) per "
+      "CPU second (higher is better).\n\n",
       error_name, at,
-      common > 0 ? " (the finest resolution all studies share)" : " (they share no resolution)");
+      common > 0 ? ", the finest resolution all studies share" : " (they share no resolution)");
   std::vector<std::string> head{"method", fmt::format("error at {}", common > 0 ? std::to_string(common) : "finest")};
   if (further) head.push_back("finest error (n)");
   for (const char* c : {"rate (trend)", "CPU s", "digits/s"}) head.push_back(c);

@@ -261,7 +261,7 @@ TEST(ProblemPage, RankingIsAtTheFinestCommonResolutionBestFirst) {
   TempDir dir("mfv-pages");
   const std::string summary =
       write_problem_section(catalogue(), laplace_section(), dir.path(), false);
-  EXPECT_NE(summary.find("at 161 nodes (the finest resolution all studies share)"),
+  EXPECT_NE(summary.find("at 161 nodes, the finest resolution all studies share"),
             std::string::npos)
       << summary;
   const auto rows = table_after(summary, "Ranked by");
@@ -310,6 +310,17 @@ TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
                       "but does not measure it) at 21 nodes"),
             std::string::npos)
       << page;
+}
+
+TEST(ProblemPage, NoRankingWhereNoErrorIsMeasured) {
+  TempDir dir("mfv-pages");
+  ReportSection section;
+  section.problem = "laplace-tanh";
+  section.studies.push_back(laplace_study("zero", "fem", {21, 41}, 0.0));
+  section.studies.push_back(laplace_study("nan", "fem", {21, 41}, NAN));
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  EXPECT_NE(summary.find("No relative L2 error is measured"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("Ranked by"), std::string::npos) << summary;
 }
 
 TEST(ProblemPage, ASecondSectionOfTheSameTitleGetsItsOwnPage) {
