@@ -248,9 +248,7 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
                             fmt::join(row.unmeasured, "`, `"));
       auto it = std::find_if(not_run.begin(), not_run.end(),
                              [&](const auto& e) { return e.first == what; });
-      if (it == not_run.end()) not_run.emplace_back(what, std::vector<int>{});
-      it = std::find_if(not_run.begin(), not_run.end(),
-                        [&](const auto& e) { return e.first == what; });
+      if (it == not_run.end()) it = not_run.insert(not_run.end(), {what, {}});
       if (std::find(it->second.begin(), it->second.end(), p.nodes) == it->second.end())
         it->second.push_back(p.nodes);
       continue;
@@ -285,7 +283,8 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
     md += "**Not run or not measured in this suite** (run them with `mfv compare` or the "
           "`--full` suite):\n\n";
     for (const auto& [what, nodes] : not_run)
-      md += fmt::format("- {} at {} {}\n", what, fmt::join(nodes, ", "), problem.resolution_name());
+      md += fmt::format("- {} at {} {}\n", what, fmt::join(nodes, ", "),
+                        problem.resolution_name());
     md += "\n";
   }
   const auto explain = problem.published_notes();

@@ -323,6 +323,35 @@ TEST(ProblemPage, NoRankingWhereNoErrorIsMeasured) {
   EXPECT_EQ(summary.find("Ranked by"), std::string::npos) << summary;
 }
 
+TEST(ProblemPage, ElasticityPageSaysEnergyWhereItShowsTheEnergyError) {
+  TempDir dir("mfv-pages");
+  ReportSection section;
+  section.problem = "cantilever";
+  StudyResult s;
+  s.label = "efg-ci";
+  for (int n : {5, 9, 17}) {
+    CaseResult c;
+    c.spec.problem = "cantilever";
+    c.spec.method = "efg-ci";
+    c.spec.nodes = n;
+    c.components = c.dim = 2;
+    c.h = 12.0 / (n - 1);
+    c.errors.l2_rel = 1e-3 * c.h * c.h;
+    c.errors.energy_rel = 1e-2 * c.h;
+    c.errors.h1_semi_rel = 99;  // must not be shown as the energy error
+    s.cases.push_back(c);
+  }
+  section.studies.push_back(s);
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  EXPECT_NE(summary.find("relative L2 displacement error"), std::string::npos) << summary;
+  const std::string page = read_file(dir.path() / "problems" / "cantilever.md");
+  EXPECT_EQ(page.find("H1"), std::string::npos) << page;
+  EXPECT_EQ(page.find("9.9e+01"), std::string::npos);
+  EXPECT_NE(page.find("energy rate"), std::string::npos);
+  EXPECT_NE(page.find("energy trend"), std::string::npos);
+  EXPECT_NE(page.find("converges (rate 1.00)"), std::string::npos) << "energy, rate 1: " << page;
+}
+
 TEST(ProblemPage, ASecondSectionOfTheSameTitleGetsItsOwnPage) {
   TempDir dir("mfv-pages");
   write_problem_section(catalogue(), laplace_section(), dir.path(), false);
