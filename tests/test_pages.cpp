@@ -71,6 +71,9 @@ INSTANTIATE_TEST_SUITE_P(
                   Trend::diverges, "the coarsest"},
         TrendCase{"rising_at_the_end", {1, 0.5, 0.25, 0.125}, {0.5, -0.3, -1.0},
                   Trend::diverges, "pairwise rates 0.50, -0.30, -1.00"},
+        TrendCase{"flat", {1, 0.5, 0.25}, {0, 0}, Trend::stagnates, "pairwise rates 0.00, 0.00"},
+        TrendCase{"back_where_it_started", {1, 0.5, 0.25}, {1, -1}, Trend::erratic,
+                  "finest error 2× the smallest"},
         TrendCase{"converged_to_roundoff_then_noise", {1, 0.5, 0.25, 0.125}, {8, 3, -1.5},
                   Trend::erratic, "the smallest"}),
     [](const auto& info) { return std::string(info.param.name); });
