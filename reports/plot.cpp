@@ -126,7 +126,7 @@ std::string build_script(const PlotSpec& spec, const std::vector<Filtered>& seri
   // The legend sits outside the plot on the right: make room for long and many entries.
   std::size_t longest = 0;
   for (const auto& s : series) longest = std::max(longest, s.label.size());
-  const int width = std::max(720, 640 + 7 * static_cast<int>(longest));
+  const int width = std::max(720, 760 + 7 * static_cast<int>(longest));
   const int height = std::max(480, 120 + 20 * static_cast<int>(series.size() + 3));
   line(fmt::format("set terminal svg size {},{} font \"sans,11\" noenhanced background rgb "
                    "'white'",

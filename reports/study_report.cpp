@@ -248,9 +248,7 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
                             fmt::join(row.unmeasured, "`, `"));
       auto it = std::find_if(not_run.begin(), not_run.end(),
                              [&](const auto& e) { return e.first == what; });
-      if (it == not_run.end()) not_run.emplace_back(what, std::vector<int>{});
-      it = std::find_if(not_run.begin(), not_run.end(),
-                        [&](const auto& e) { return e.first == what; });
+      if (it == not_run.end()) it = not_run.insert(not_run.end(), {what, {}});
       if (std::find(it->second.begin(), it->second.end(), p.nodes) == it->second.end())
         it->second.push_back(p.nodes);
       continue;
@@ -285,7 +283,8 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
     md += "**Not run or not measured in this suite** (run them with `mfv compare` or the "
           "`--full` suite):\n\n";
     for (const auto& [what, nodes] : not_run)
-      md += fmt::format("- {} at {} {}\n", what, fmt::join(nodes, ", "), problem.resolution_name());
+      md += fmt::format("- {} at {} {}\n", what, fmt::join(nodes, ", "),
+                        problem.resolution_name());
     md += "\n";
   }
   const auto explain = problem.published_notes();
@@ -471,6 +470,19 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
     rows.push_back(std::move(r));
   }
   if (rows.empty()) return "";
+  const bool any_error = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
+    for (const auto& s : {r.at, r.finest})
+      if (std::isfinite(s->errors.l2_rel) && s->errors.l2_rel > 0) return true;
+    return false;
+  });
+  if (!any_error) {
+    double cpu = 0;
+    for (const auto& s : studies)
+      for (const auto& c : s.cases) cpu += c.cpu.total();
+    return fmt::format("No {} is measured for this problem (its findings judge what the "
+                       "studies show); {} stud{}, {:.3f} CPU s in all.\n\n",
+                       error_name, rows.size(), rows.size() == 1 ? "y" : "ies", cpu);
+  }
   // Best first; an error that is missing, not finite or exactly 0 (nothing measured: no
   // floating-point solution is exact) goes last.
   const auto measured = [](const Row& r) {
@@ -484,12 +496,11 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
   const std::string at =
       common > 0 ? fmt::format("{} {}", common, resolution) : std::string("each study's finest");
   std::string md = fmt::format(
-      "Ranked by the {} at {}{}. Rate: least-squares slope of ln e against ln h, with the "
-      "trend judged from the pairwise rates and the finest error; CPU: seconds of that case; "
-      "digits/s: correct digits −log₁₀(error) per CPU second there (higher is better; below "
-      "10 ms CPU times are noisy).\n\n",
+      "Ranked by the {} at {}{}; rate: least-squares slope, with the trend judged from the "
+      "pairwise rates and the finest error; CPU s of that case; digits/s: −log₁₀(error) per "
+      "CPU second (higher is better).\n\n",
       error_name, at,
-      common > 0 ? " (the finest resolution all studies share)" : " (they share no resolution)");
+      common > 0 ? ", the finest resolution all studies share" : " (they share no resolution)");
   std::vector<std::string> head{"method", fmt::format("error at {}", common > 0 ? std::to_string(common) : "finest")};
   if (further) head.push_back("finest error (n)");
   for (const char* c : {"rate (trend)", "CPU s", "digits/s"}) head.push_back(c);

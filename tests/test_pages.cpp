@@ -71,6 +71,9 @@ INSTANTIATE_TEST_SUITE_P(
                   Trend::diverges, "the coarsest"},
         TrendCase{"rising_at_the_end", {1, 0.5, 0.25, 0.125}, {0.5, -0.3, -1.0},
                   Trend::diverges, "pairwise rates 0.50, -0.30, -1.00"},
+        TrendCase{"flat", {1, 0.5, 0.25}, {0, 0}, Trend::stagnates, "pairwise rates 0.00, 0.00"},
+        TrendCase{"back_where_it_started", {1, 0.5, 0.25}, {1, -1}, Trend::erratic,
+                  "finest error 2× the smallest"},
         TrendCase{"converged_to_roundoff_then_noise", {1, 0.5, 0.25, 0.125}, {8, 3, -1.5},
                   Trend::erratic, "the smallest"}),
     [](const auto& info) { return std::string(info.param.name); });
@@ -261,7 +264,7 @@ TEST(ProblemPage, RankingIsAtTheFinestCommonResolutionBestFirst) {
   TempDir dir("mfv-pages");
   const std::string summary =
       write_problem_section(catalogue(), laplace_section(), dir.path(), false);
-  EXPECT_NE(summary.find("at 161 nodes (the finest resolution all studies share)"),
+  EXPECT_NE(summary.find("at 161 nodes, the finest resolution all studies share"),
             std::string::npos)
       << summary;
   const auto rows = table_after(summary, "Ranked by");
@@ -310,6 +313,46 @@ TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
                       "but does not measure it) at 21 nodes"),
             std::string::npos)
       << page;
+}
+
+TEST(ProblemPage, NoRankingWhereNoErrorIsMeasured) {
+  TempDir dir("mfv-pages");
+  ReportSection section;
+  section.problem = "laplace-tanh";
+  section.studies.push_back(laplace_study("zero", "fem", {21, 41}, 0.0));
+  section.studies.push_back(laplace_study("nan", "fem", {21, 41}, NAN));
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  EXPECT_NE(summary.find("No relative L2 error is measured"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("Ranked by"), std::string::npos) << summary;
+}
+
+TEST(ProblemPage, ElasticityPageSaysEnergyWhereItShowsTheEnergyError) {
+  TempDir dir("mfv-pages");
+  ReportSection section;
+  section.problem = "cantilever";
+  StudyResult s;
+  s.label = "efg-ci";
+  for (int n : {5, 9, 17}) {
+    CaseResult c;
+    c.spec.problem = "cantilever";
+    c.spec.method = "efg-ci";
+    c.spec.nodes = n;
+    c.components = c.dim = 2;
+    c.h = 12.0 / (n - 1);
+    c.errors.l2_rel = 1e-3 * c.h * c.h;
+    c.errors.energy_rel = 1e-2 * c.h;
+    c.errors.h1_semi_rel = 99;  // must not be shown as the energy error
+    s.cases.push_back(c);
+  }
+  section.studies.push_back(s);
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  EXPECT_NE(summary.find("relative L2 displacement error"), std::string::npos) << summary;
+  const std::string page = read_file(dir.path() / "problems" / "cantilever.md");
+  EXPECT_EQ(page.find("H1"), std::string::npos) << page;
+  EXPECT_EQ(page.find("9.9e+01"), std::string::npos);
+  EXPECT_NE(page.find("energy rate"), std::string::npos);
+  EXPECT_NE(page.find("energy trend"), std::string::npos);
+  EXPECT_NE(page.find("converges (rate 1.00)"), std::string::npos) << "energy, rate 1: " << page;
 }
 
 TEST(ProblemPage, ASecondSectionOfTheSameTitleGetsItsOwnPage) {

@@ -13,7 +13,8 @@ namespace {
 
 std::string rates_text(const std::vector<double>& r) {
   std::string s;
-  for (double x : r) s += fmt::format("{}{:.2f}", s.empty() ? "" : ", ", x);
+  // + 0.0 turns a −0 (a flat pair: ln 1 / ln(h ratio)) into 0.
+  for (double x : r) s += fmt::format("{}{:.2f}", s.empty() ? "" : ", ", x + 0.0);
   return s;
 }
 
@@ -71,7 +72,7 @@ ConvergenceJudgement judge_convergence(const std::vector<double>& e, const std::
   if (finest == smallest && last >= kConvergesMinRate && j.fitted_rate >= kConvergesMinRate) {
     j.trend = Trend::converges;
     j.reason = fmt::format("{}; the finest error is the smallest", rates);
-  } else if (finest == largest || (finest > coarsest && last < 0)) {
+  } else if (finest > coarsest && (finest == largest || last < 0)) {
     j.trend = Trend::diverges;
     j.reason = fmt::format("{}; finest error {:.3g}× the coarsest", rates, finest / coarsest);
   } else if (std::abs(last) < kConvergesMinRate && finest <= kStagnationBand * smallest) {

@@ -7,8 +7,8 @@
 /// ln e against ln h (004 II eq 7.3). The criteria, in order, with r_min = kConvergesMinRate:
 ///   converges  the finest error is the smallest, the last pairwise rate ≥ r_min and the
 ///              fitted rate ≥ r_min;
-///   diverges   the finest error is the largest, or above the coarsest with the last pairwise
-///              rate below 0 (still rising);
+///   diverges   the finest error is above the coarsest and either the largest or still
+///              rising (last pairwise rate below 0);
 ///   stagnates  |last pairwise rate| < r_min and the finest error within kStagnationBand of the
 ///              smallest (it has levelled off);
 ///   erratic    anything else (rates that change sign, a finest error far above the smallest).
