@@ -7,7 +7,11 @@
 /// where d_I = Σ_b w_b Ψ_I(x_b) n_b − Σ_q w_q ∇Ψ_I(x_q) is the identity's defect. A linear
 /// field then gives a constant stress whose internal force equals its boundary traction, so
 /// the patch test passes whatever the quadrature. Applied as a decorator over any method's
-/// test-gradient table (nodal, stress-point or cell rules alike).
+/// test-gradient table (nodal, stress-point or cell rules alike). The patch test needs the
+/// identity's boundary rule to be where the boundary forces act: nodal and stress-point rules
+/// put tractions and multipliers on the same particles (kbm-ni/si, efg-ni and rlm then pass to
+/// round-off); Gauss-cell rules integrate tractions on their own boundary points while the
+/// multipliers sit at the particles, so there VCI keeps the identity but not the patch test.
 #pragma once
 #include <memory>
 
