@@ -69,7 +69,7 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
               : p.integer("nq") > 0  ? fmt::format("{0}x{0} Gauss per cell", p.integer("nq"))
                                      : "Gauss cells with n_Q = sqrt(m)+2",
               p.text("bc"));
-          return make_galerkin_method(std::move(g));
+          return vci_if_asked(p, make_galerkin_method(std::move(g)));
         });
 }
 

@@ -47,7 +47,7 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
               support_text(p),
               integration, integration == "stress-points" ? " " + p.text("layout") : "",
               p.text("bc"));
-          return make_particle_method(std::move(g));
+          return vci_if_asked(p, make_particle_method(std::move(g)));
         });
 }
 

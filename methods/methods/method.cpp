@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/methods/vci.hpp"
 
 namespace mfv {
 
@@ -127,6 +128,10 @@ std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe) {
   return std::make_unique<ParticleMethod>(std::move(recipe));
 }
 
+std::unique_ptr<Method> vci_if_asked(const Params& p, std::unique_ptr<Method> method) {
+  return p.has("vci") && p.text("vci") == "true" ? with_vci(std::move(method)) : std::move(method);
+}
+
 ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice) {
   ParamSchema s{
       ParamSpec::choice("kernel", "cubic-spline", kernels.keys(), "kernel W (001 eq 14)"),
@@ -134,6 +139,10 @@ ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential
       ParamSpec::number("radius", 0.0,
                         "fixed support radius (length units) for every resolution, 001 Fig. 7; "
                         "0: dmax times the spacing"),
+      ParamSpec::choice("vci", "false", {"false", "true"},
+                        "variationally consistent integration (Chen, Hillman & Ruter 2013, not "
+                        "in 001): one constant correction of the test gradients per particle so "
+                        "the quadrature satisfies the divergence identity"),
   };
   if (essential_choice) {
     s.push_back(ParamSpec::choice("bc", "lagrange", {"lagrange", "penalty"},

@@ -112,6 +112,9 @@ struct ParticleRecipe {
   std::string description;
 };
 std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe);
+/// `method` wrapped in variationally consistent integration (methods/methods/vci.hpp) when the
+/// parameters say vci=true (particle_method_schema declares it), else `method` itself.
+std::unique_ptr<Method> vci_if_asked(const Params& p, std::unique_ptr<Method> method);
 
 /// Parameters of the 2D particle methods: kernel, support dmax·Δx or a fixed radius, and
 /// (for MLS trial functions) the essential boundary treatment.

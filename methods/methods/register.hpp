@@ -50,7 +50,9 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
 
 /// Dilation a = scale · 2^j · Δx of the RKPM windows, by the rule a paper states:
 /// eq7.4: a = 2^{j+0.5} σ with Δx/(σ√π) = 1/√2 (Gaussian) or a = 2^{j+0.5} Δx (cubic window);
-/// eq6.10: a0 = 2^j Δx √(2/π); custom: the given scale.
+/// derived (Gaussian): a = 2^j Δx/π, the band edge 1/a at the Nyquist wavenumber for j = 0;
+/// fit (Gaussian): a = 0.3297·2^j Δx fitted to Table 1; eq6.10: a0 = 2^j Δx √(2/π); custom:
+/// the given scale.
 double rkpm_dilation_scale(const Params& p);
 ParamSchema rkpm_window_schema();
 

@@ -26,7 +26,7 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
       "{}, {} kernel, support {}; particle values fixed directly at essential boundaries; "
       "fields between particles: linear MLS fit",
       name, p.text("kernel"), support_text(p));
-  return make_particle_method(std::move(g));
+  return vci_if_asked(p, make_particle_method(std::move(g)));
 }
 
 void register_sph(MethodRegistry& r, const MethodParts& parts) {
