@@ -73,9 +73,13 @@ std::string ratio_text(double r) {
   return std::abs(r) < 1e-2 || std::abs(r) >= 1e3 ? fmt_sci(r, 2) : fmt::format("{:.3g}", r);
 }
 
+/// "rkpm j=1,kernel=gaussian", with the problem parameters the value belongs to in brackets
+/// ("xefg (dim=2)"), so values that differ only there do not read as duplicates.
 std::string method_text(const PublishedValue& p) {
   const std::string params = p.method_params.to_string();
-  return params.empty() ? p.method : p.method + " " + params;
+  const std::string problem = p.problem_params.to_string();
+  return (params.empty() ? p.method : p.method + " " + params) +
+         (problem.empty() ? "" : " (" + problem + ")");
 }
 
 /// compare_value under the value's own tolerance; a tolerance that is not a positive number

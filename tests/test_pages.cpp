@@ -258,6 +258,12 @@ TEST(ProblemPage, IsWrittenAndLinkedFromASmallSummary) {
     EXPECT_NE(text.find("](../plots/laplace-tanh-l2.svg)"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir.path() / "plots" / "laplace-tanh-l2.svg"));
   }
+  // Every relative link of the page resolves from the page's own folder (index.md is the
+  // caller's to write).
+  for (std::size_t at = text.find("]("); at != std::string::npos; at = text.find("](", at + 2)) {
+    const std::string target = text.substr(at + 2, text.find(')', at) - at - 2);
+    if (target != "../index.md") EXPECT_TRUE(fs::exists(page.parent_path() / target)) << target;
+  }
 }
 
 TEST(ProblemPage, RankingIsAtTheFinestCommonResolutionBestFirst) {
