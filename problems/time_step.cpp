@@ -102,8 +102,12 @@ class TimeStep final : public Problem {
         "004 III §5.2 does not say which mass its 'numeric' critical steps use, how the fixed "
         "end is imposed on the non-interpolating GRK functions, nor the quadrature of K (we use "
         "the rkpm plugin's Gauss cells). Its eq 5.2.5 ('analytic') is printed with garbled "
-        "factors in our copy (l, r, dx and Φ' vs Φ) and is not re-derived here: both columns "
-        "are printed beside our lumped- and consistent-mass eigenvalues, never substituted.",
+        "factors in our copy (l, r, dx and Φ' vs Φ). Column eq525_ours evaluates it under a "
+        "stated reading (problems/time_step.hpp: eqs 5.2.3–5.2.4 with the r² kept and the "
+        "interior continuous sum of eq 5.2.7), which gives √2·2^((j+1)/2) l/c; the printed "
+        "column is 2^((j+1)/2) l/c, a factor √2 (λ_max doubled) below it at every j. Both "
+        "columns are printed beside our lumped- and consistent-mass eigenvalues, never "
+        "substituted.",
         "The paper's numeric Δt grows faster with j than its analytic one (j = 1: 5.651e-5 vs "
         "4.912e-5); a wider window lowers the highest frequency the discretization carries, and "
         "how far depends on the window truncation and the boundary correction, which the paper "
