@@ -17,11 +17,20 @@
 #include <fmt/format.h>
 
 #include "problems/problem.hpp"
+#include "problems/time_step.hpp"
 #include "stability/critical_step.hpp"
 #include "verify/catalogue.hpp"
 #include "verify/runner.hpp"
 
 namespace mfv {
+
+double grk_critical_step_eq525(double r, double dx, double c) {
+  const bool ok = std::isfinite(r) && std::isfinite(dx) && std::isfinite(c) && r > 0 && dx > 0 &&
+                  c > 0;
+  if (!ok) return NAN;
+  const double l = dx;  // the element length of the FEM step l/c the paper compares with
+  return std::sqrt(2.0) * (l / c) * std::sqrt(std::sqrt(2 * std::numbers::pi) * r / dx);
+}
 
 namespace {
 
@@ -42,6 +51,7 @@ constexpr double kGrkTable[][3] = {
 struct StepPair {
   double lumped = 0, consistent = 0;  ///< 0: not computed
   double power = 0;                   ///< engine's power iteration (lumped), 0 if not run
+  double window = 0;                  ///< dilation a of the middle particle (eq 5.2.5's r)
   CriticalStep lumped_detail, consistent_detail;
 };
 
@@ -92,8 +102,12 @@ class TimeStep final : public Problem {
         "004 III §5.2 does not say which mass its 'numeric' critical steps use, how the fixed "
         "end is imposed on the non-interpolating GRK functions, nor the quadrature of K (we use "
         "the rkpm plugin's Gauss cells). Its eq 5.2.5 ('analytic') is printed with garbled "
-        "factors in our copy (l, r, dx and Φ' vs Φ) and is not re-derived here: both columns "
-        "are printed beside our lumped- and consistent-mass eigenvalues, never substituted.",
+        "factors in our copy (l, r, dx and Φ' vs Φ). Column eq525_ours evaluates it under a "
+        "stated reading (problems/time_step.hpp: eqs 5.2.3–5.2.4 with the r² kept and the "
+        "interior continuous sum of eq 5.2.7), which gives √2·2^((j+1)/2) l/c; the printed "
+        "column is 2^((j+1)/2) l/c, a factor √2 (λ_max doubled) below it at every j. Both "
+        "columns are printed beside our lumped- and consistent-mass eigenvalues, never "
+        "substituted.",
         "The paper's numeric Δt grows faster with j than its analytic one (j = 1: 5.651e-5 vs "
         "4.912e-5); a wider window lowers the highest frequency the discretization carries, and "
         "how far depends on the window truncation and the boundary correction, which the paper "
@@ -153,6 +167,7 @@ StepPair TimeStep::steps(const Catalogue& cat, const Method& method, int nodes, 
   if (particles) *particles = d.particles.size();
   if (dxc) *dxc = dx / c;
   const int n = d.particles.size();
+  const double window = n > 0 ? d.particles.dilation[n / 2] : 0.0;
   std::vector<int> fixed;
   if (fixed_)
     for (int I = 0; I < n; ++I)
@@ -169,6 +184,7 @@ StepPair TimeStep::steps(const Catalogue& cat, const Method& method, int nodes, 
   opt.threads = 1;
   ExplicitDynamics engine(method, std::move(d), std::move(model), opt);
   StepPair out;
+  out.window = window;
   CriticalStepOptions o;
   o.fixed = fixed;
   o.eigen = eo;
@@ -289,17 +305,21 @@ void TimeStep::analyse(const AnalysisContext& c, CaseResult& r) const {
     };
     if (!block_) {
       AnalysisData::Table t{"grk-table",
-                            {"j", "dt_lumped", "dt_consistent", "paper_analytic", "paper_numeric",
-                             "fem_l_over_c"},
+                            {"j", "dt_lumped", "dt_consistent", "paper_analytic",
+                             "eq525_ours", "paper_numeric", "fem_l_over_c"},
                             {}};
       for (const auto& row : kGrkTable) {
         const StepPair p = at_j(row[0]);
-        t.rows.push_back({row[0], p.lumped, p.consistent, row[1], row[2], dxc});
+        // Eq 5.2.5 holds for the Gaussian window only (problems/time_step.hpp).
+        const double eq525 = base.text("kernel") == "gaussian"
+                                 ? grk_critical_step_eq525(p.window, r.h, r.h / dxc)
+                                 : NAN;
+        t.rows.push_back({row[0], p.lumped, p.consistent, row[1], eq525, row[2], dxc});
         a.verdicts.push_back(fmt::format(
-            "GRK j = {:g} ({} {}): Δt lumped {:.4g}, consistent {:.4g}; 004 analytic {:.4g}, "
-            "numeric {:.4g} s",
+            "GRK j = {:g} ({} {}): Δt lumped {:.4g}, consistent {:.4g}; 004 analytic {:.4g} "
+            "(eq 5.2.5 as we read it: {:.4g}), numeric {:.4g} s",
             row[0], base.text("kernel"), base.text("rule"), p.lumped, p.consistent, row[1],
-            row[2]));
+            eq525, row[2]));
       }
       a.tables.push_back(std::move(t));
     }

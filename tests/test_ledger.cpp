@@ -14,6 +14,7 @@
 #include "verify/catalogue.hpp"
 #include "verify/ledger.hpp"
 #include "verify/manifest.hpp"
+#include "verify/runner.hpp"
 
 namespace mfv {
 namespace {
@@ -348,6 +349,38 @@ TEST(Ledger, AOneSidedClaimAcceptsAnythingOnItsSide) {
   EXPECT_EQ(verdict(3.0), kPartly);       // within 15% below
   EXPECT_EQ(verdict(2.0), kNotReproduced);
   EXPECT_EQ(verdict(NAN), kNotReached);
+}
+
+/// The measurement gaps the ledger's author left are closed: every published row names a suite
+/// case, and the GRK Δt rows (the numeric step and eq 5.2.5, j = −1, 0, 1) get a verdict from
+/// the suite's grk-bar cases, never "not run" or "not reached".
+TEST(Ledger, GrkStepRowsAreMeasuredByTheSuite) {
+  const Catalogue c;
+  const Manifest m = load_manifest(kSuite);
+  const Ledger l = load_ledger(m.ledger, m, c);
+  for (const auto& row : l.rows)
+    if (row.kind == LedgerRow::Kind::published)
+      EXPECT_EQ(row.cases.size(), 1u) << row.id << ": no suite case measures it";
+  std::map<std::string, StudyResult> studies;
+  for (const auto& mc : m.cases)
+    if (mc.problem == "grk-bar" && mc.method == "rkpm" &&
+        mc.problem_params.has("courant") && mc.problem_params.number("courant") == 1.0) {
+      const CaseSpec spec{mc.problem, mc.problem_params, mc.method, mc.method_params, 0, 0};
+      studies.emplace(mc.id, run_study(c, spec, mc.nodes));
+    }
+  ASSERT_TRUE(studies.count("grk-bar/grk-j-1"));
+  std::map<std::string, CaseOutcome> ran;
+  for (const auto& [id, s] : studies) ran[id] = {&s, ""};
+  int rows = 0;
+  for (const auto& e : evaluate_ledger(l, c, m, ran)) {
+    if (e.row->id.rfind("004-III-grk-dt-", 0) != 0) continue;
+    ++rows;
+    EXPECT_NE(e.verdict, kNotRun) << e.row->id << ": " << e.why;
+    EXPECT_NE(e.verdict, kNotReached) << e.row->id << ": " << e.why;
+    ASSERT_EQ(e.ours.size(), 1u);
+    EXPECT_TRUE(std::isfinite(e.ours[0]) && e.ours[0] > 0) << e.row->id;
+  }
+  EXPECT_EQ(rows, 6);
 }
 
 }  // namespace
