@@ -199,7 +199,8 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   for (const auto& v : r.analysis.verdicts) out << fmt::format("verdict   {}\n", v);
   for (const auto& [k, v] : r.headline) out << fmt::format("  {:<40} {:.6g}\n", k, v);
   std::set<std::string> printed;
-  for (const auto& p : compare_published(*problem, {study})) {
+  for (const auto& p : compare_published(*problem, {study},
+                                          c.problems.resolve(spec.problem, Params{}))) {
     if (p.study.empty() || std::isnan(p.ours)) continue;
     const std::string line =
         fmt::format("published {} {} = {:.6g} ({}); ours {:.6g}\n", p.published.source,

@@ -70,6 +70,7 @@ Finding table1_finding(const std::string& rule, const std::string& id, const std
                                         kColumnTolerance, text)};
           },
           id};
+}
 
 constexpr const char* kEndSlopeError = "max |du/dx error| at x=0,6";
 
