@@ -185,8 +185,10 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     const TransientData& t = r.transient;
     out << fmt::format("dynamics  {}\n", t.dynamics);
     out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
-                       "{:.6g}{}\n",
-                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.end_time,
+                       "{:.6g}{}{}\n",
+                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
+                       t.stopped_early ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
+                                       : "",
                        t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
                                            : "");
     if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
@@ -196,7 +198,8 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
       return std::isnan(v) ? missing : fmt::format(fmt::runtime(spec), v);
     };
     out << fmt::format("L2 error  relative {} (the problem's main error)\n",
-                       shown(r.errors.l2_rel, "{:.6e}"));
+                       t.main_error.empty() ? std::string("not measured")
+                                            : shown(r.errors.l2_rel, "{:.6e}"));
     for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
     out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
                        "({:.3g} particle-steps/s)\n",

@@ -106,8 +106,7 @@ std::string frame_comparison(const std::vector<StudyResult>& studies) {
           a.label, b.label, compared, fmt_sci(worst, 2), fmt_sci(moved, 2),
           same_digits ? " They agree to every printed digit because the strain is small: the "
                         "Eulerian tables, recomputed at positions that moved that little, are "
-                        "nearly the Lagrangian ones (the difference is of the order of the "
-                        "displacement over the spacing, squared in the symmetric terms)."
+                        "nearly the Lagrangian ones."
                       : "");
     }
   if (md.empty()) return md;

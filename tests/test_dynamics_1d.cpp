@@ -193,5 +193,44 @@ TEST(GrkBar, PlasticStressStaysOnTheHardeningCurve) {
   EXPECT_EQ(high.headline.at("unstable"), 0.0);
 }
 
+// Issue 12: the unstable rod is marked where the peak first passed 2 v0, stops early, and its
+// peak is then a lower bound; the stable one runs to the end. Neither measures an error.
+TEST(PrestressedRod, InstabilityIsRecordedWithItsStepAndTheRunStopsEarly) {
+  const CaseResult eul = rod("kbm-ni", 1.5, "eulerian", 0.1);
+  ASSERT_TRUE(eul.transient.instability.has_value());
+  EXPECT_NE(eul.transient.instability->reason.find("above 2 v0"), std::string::npos);
+  EXPECT_GT(eul.transient.instability->step, 0);
+  EXPECT_LE(eul.transient.instability->step, eul.transient.steps);
+  EXPECT_TRUE(eul.transient.stopped_early);
+  EXPECT_EQ(eul.headline.at("run stopped early"), 1.0);
+  EXPECT_NEAR(eul.headline.at("onset (transits l/c)") * 0.04 / std::sqrt(1e10 / 2450),
+              eul.transient.instability->time, 1e-15);
+  EXPECT_TRUE(std::isnan(eul.errors.l2));
+
+  const CaseResult lag = rod("kbm-ni", 1.5, "lagrangian", 0.1);
+  EXPECT_FALSE(lag.transient.instability.has_value());
+  EXPECT_FALSE(lag.transient.stopped_early);
+  EXPECT_EQ(lag.headline.at("run stopped early"), 0.0);
+  EXPECT_TRUE(std::isnan(lag.errors.l2));
+  EXPECT_TRUE(lag.transient.main_error.empty());
+}
+
+// The GRK bar above its critical step blows up before its checkpoints: their errors are
+// "not reached", not 0.
+TEST(GrkBar, UnstableRunLeavesItsCheckpointsNotReached) {
+  const CaseResult r = bar("rkpm", grk(0), "courant=1.35");
+  ASSERT_TRUE(r.transient.instability.has_value());
+  EXPECT_NE(r.transient.instability->reason.find("v*"), std::string::npos);
+  EXPECT_TRUE(r.transient.stopped_early);
+  for (const char* k : {"error u at 1.5 L/c", "error u at 2.5 L/c", "error stress at 2.5 L/c",
+                        "error v at 2.5 L/c"})
+    EXPECT_TRUE(std::isnan(r.headline.at(k))) << k;
+  EXPECT_TRUE(std::isnan(r.errors.l2_rel));
+  EXPECT_TRUE(std::isfinite(r.headline.at("peak velocity / v*")));
+  const CaseResult ok = bar("rkpm", grk(0), "courant=1");
+  EXPECT_FALSE(ok.transient.instability.has_value());
+  EXPECT_TRUE(std::isfinite(ok.errors.l2_rel));
+}
+
 }  // namespace
 }  // namespace mfv
