@@ -305,7 +305,9 @@ class GrkBar final : public Problem {
 
 void register_grk_bar(ProblemRegistry& r) {
   ParamSchema s{
-      ParamSpec::number("F0", 5000.0, "step force at x = L (lb)"),
+      ParamSpec::positive("F0", 5000.0,
+                          "step force at x = L (lb; > 0: the verdicts compare velocities with "
+                          "v* = F0/(A rho c))"),
       ParamSpec::choice("material", "elastic", {"elastic", "plastic"},
                         "elastic, or elastic-plastic with linear hardening (plastic-1d)"),
       ParamSpec::positive("sigma_y", 30000.0, "yield stress (psi), material=plastic"),

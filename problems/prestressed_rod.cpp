@@ -321,7 +321,9 @@ class PrestressedRod final : public Problem {
 void register_prestressed_rod(ProblemRegistry& r) {
   ParamSchema s{
       ParamSpec::number("sigma", 0.1, "initial stress over Young's modulus, sigma0 / E (000 §5.1)"),
-      ParamSpec::number("v0", 40.0, "initial velocity of the centre node (m/s)"),
+      ParamSpec::positive("v0", 40.0,
+                          "initial velocity of the centre node (m/s; > 0: the verdict compares "
+                          "velocities with v0)"),
       ParamSpec::number("end_time", 0.0, "simulated time (s); 0: five wave transits l/c"),
       ParamSpec::choice("equilibrate", "yes", {"yes", "no"},
                         "balance the t = 0 internal force of the prestress by a constant load "

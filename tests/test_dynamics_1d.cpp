@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/core/errors.hpp"
 #include "problems/problem.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
@@ -213,6 +214,26 @@ TEST(PrestressedRod, InstabilityIsRecordedWithItsStepAndTheRunStopsEarly) {
   EXPECT_EQ(lag.headline.at("run stopped early"), 0.0);
   EXPECT_TRUE(std::isnan(lag.errors.l2));
   EXPECT_TRUE(lag.transient.main_error.empty());
+}
+
+// The verdicts compare velocities with v0 and v*: a zero or negative kick or load would make
+// every step "unstable", so they are refused.
+TEST(TransientVerdicts, RefuseAReferenceVelocityThatIsNotPositive) {
+  CaseSpec c;
+  c.problem = "prestressed-rod";
+  c.method = "kbm-ni";
+  c.nodes = 41;
+  for (const char* v0 : {"v0=0", "v0=-40"}) {
+    c.problem_params = Params::parse(v0);
+    EXPECT_THROW(run_case(test_catalogue(), c), InputError) << v0;
+  }
+  c.problem = "grk-bar";
+  c.method = "fem";
+  c.nodes = 21;
+  for (const char* f0 : {"F0=0", "F0=-5000"}) {
+    c.problem_params = Params::parse(f0);
+    EXPECT_THROW(run_case(test_catalogue(), c), InputError) << f0;
+  }
 }
 
 // The GRK bar above its critical step blows up before its checkpoints: their errors are
