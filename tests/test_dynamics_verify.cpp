@@ -67,5 +67,33 @@ TEST_F(TransientVerify, ExpectedInstabilityPassesOnlyWhenItHappens) {
   EXPECT_EQ(verify("safety = 0.8", "", out), 0) << out;
 }
 
+// The rod pulse measures a velocity error only: `mfv study` shows its H1 error as "–", not as
+// "0.000e+00"; `mfv run` of the blown-up rod prints the verdict and "not reached".
+TEST_F(TransientVerify, StudyAndRunSayWhatWasNotMeasuredOrReached) {
+  CompareOptions o;
+  o.problem = "rod-pulse";
+  o.problem_params = "frames=0,samples=10,transits=1,threads=1";
+  o.methods = {"efg-ni"};
+  o.nodes = {61};
+  std::ostringstream study, progress;
+  EXPECT_EQ(command_compare(catalogue_, o, study, progress), 0);
+  EXPECT_EQ(study.str().find("0.000e+00"), std::string::npos) << study.str();
+
+  RunOptions r;
+  r.problem = "rod-pulse";
+  r.method = "efg-ci";
+  r.problem_params = "safety=1.5,frames=0,threads=1";
+  r.nodes = 61;
+  std::ostringstream run;
+  command_run(catalogue_, r, run);
+  EXPECT_NE(run.str().find("verdict   unstable at step "), std::string::npos) << run.str();
+  const std::string text = run.str();
+  const auto at = text.find("velocity error at L/c ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::string line = text.substr(at, text.find('\n', at) - at);
+  EXPECT_NE(line.find("not reached"), std::string::npos) << line;
+  EXPECT_NE(run.str().find("(stopped early; end time "), std::string::npos) << run.str();
+}
+
 }  // namespace
 }  // namespace mfv
