@@ -187,8 +187,9 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
                        "{:.6g}{}{}\n",
                        t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
-                       t.stopped_early ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
-                                       : "",
+                       t.stopped_early
+                           ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
+                           : "",
                        t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
                                            : "");
     if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
