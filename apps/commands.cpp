@@ -251,12 +251,23 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     const TransientData& t = r.transient;
     out << fmt::format("dynamics  {}\n", t.dynamics);
     out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
-                       "{:.6g}{}\n",
-                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.end_time,
+                       "{:.6g}{}{}\n",
+                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
+                       t.stopped_early
+                           ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
+                           : "",
                        t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
                                            : "");
-    out << fmt::format("L2 error  relative {:.6e} (the problem's main error)\n", r.errors.l2_rel);
-    for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {:.6g}\n", k, v);
+    if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
+    // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.
+    const std::string missing = t.instability ? "not reached" : "–";
+    auto shown = [&](double v, const char* spec) {
+      return std::isnan(v) ? missing : fmt::format(fmt::runtime(spec), v);
+    };
+    out << fmt::format("L2 error  relative {} (the problem's main error)\n",
+                       t.main_error.empty() ? std::string("not measured")
+                                            : shown(r.errors.l2_rel, "{:.6e}"));
+    for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
     out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
                        "({:.3g} particle-steps/s)\n",
                        r.cpu.setup, r.cpu.assembly, r.cpu.solve,
@@ -427,6 +438,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     std::string error;
     std::vector<BandViolation> bands;
     std::vector<Drift> drifts;
+    std::vector<std::string> stability;  ///< blown up, or stable against expect = "unstable"
   };
   std::vector<Outcome> outcomes;
   std::vector<ReportSection> sections;
@@ -436,7 +448,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
 
   for (std::size_t k = 0; k < selected.size(); ++k) {
     const ManifestCase& mc = *selected[k];
-    Outcome oc{&mc, std::nullopt, "", {}, {}};
+    Outcome oc{&mc, std::nullopt, "", {}, {}, {}};
     CaseSpec spec;
     spec.problem = mc.problem;
     spec.problem_params = mc.problem_params;
@@ -450,6 +462,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
           progress_printer(progress, fmt::format("[{}/{}] {}:", k + 1, selected.size(), mc.id)));
       s.label = mc.id;
       oc.bands = check_bands(mc, s, manifest_file);
+      oc.stability = check_stability(mc, s);
       BaselineCase current = baseline_from_study(s);
       if (o.update_baseline) {
         if (!o.full) updated.cases[mc.id] = current;
@@ -510,7 +523,8 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     const bool missing_baseline = std::any_of(oc.drifts.begin(), oc.drifts.end(), [](auto& d) {
       return d.metric == "resolution";
     });
-    const bool ok = oc.error.empty() && oc.bands.empty() && worse == 0 && !missing_baseline;
+    const bool ok = oc.error.empty() && oc.bands.empty() && oc.stability.empty() && worse == 0 &&
+                    !missing_baseline;
     if (!ok) ++failed;
     std::vector<std::string> nodes;
     for (int n : resolutions(*oc.mc, o.full)) nodes.push_back(std::to_string(n));
@@ -541,6 +555,10 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                       oc.study ? &*oc.study : nullptr, oc.error};
     if (!oc.error.empty()) messages.push_back(fmt::format("{}: could not run: {}", oc.mc->id,
                                                           oc.error));
+    for (const auto& m : oc.stability) {
+      messages.push_back(m);
+      cj.messages.push_back(m);
+    }
     for (const auto& b : oc.bands) {
       messages.push_back(b.message);
       cj.messages.push_back(b.message);

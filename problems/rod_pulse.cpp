@@ -141,11 +141,20 @@ class RodPulse final : public Problem {
     const int transits = p_.integer("transits");
     plan.end_time = transits * transit;
     for (int k = 1; k <= transits; ++k) plan.checkpoints.push_back(k * transit);
+    // The velocity error (eq 75) is the only norm measured; a checkpoint the run does not
+    // reach (stopped as unstable) keeps NaN, printed "not reached".
+    r.errors = ErrorNorms::not_measured();
+    r.transient.main_error = "relative L2 velocity error ||v_h - v|| / ||v|| at t = L/c "
+                             "(001 eq 75, dimensionless)";
+    auto checkpoint_name = [](int k) {
+      return k == 0   ? std::string("velocity error at L/c")
+             : k == 1 ? std::string("velocity error at 2L/c")
+                      : fmt::format("velocity error at {}L/c", k + 1);
+    };
+    for (int k = 0; k < transits; ++k) r.headline[checkpoint_name(k)] = NAN;
     plan.at_checkpoint = [&](const ExplicitDynamics& s, int k) {
       const double e = velocity_error(s, X);
-      r.headline[k == 0 ? "velocity error at L/c" : k == 1 ? "velocity error at 2L/c"
-                                                           : fmt::format("velocity error at "
-                                                                         "{}L/c", k + 1)] = e;
+      r.headline[checkpoint_name(k)] = e;
       if (k == 0) r.errors.l2_rel = r.errors.l2 = e;
     };
     plan.probe_names = {"v left end", "v middle", "v right end", "exact v left end",

@@ -81,6 +81,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   const long frame_every = frames > 0 ? std::max(1L, steps / frames) : 0;
 
   double worst = 0, scale = std::abs(sim.energy().initial);
+  double energy_in = std::abs(sim.energy().initial);  // E_in of kEnergyBound
   auto record = [&]() {
     const EnergyBalance& e = sim.energy();
     std::vector<double> row{sim.time(), e.kinetic, e.internal_work, e.external_work,
@@ -88,6 +89,8 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     if (plan.probes)
       for (double v : plan.probes(sim)) row.push_back(v);
     td.history.push_back(std::move(row));
+    if (sim.displacement().size() > 0)
+      td.max_displacement = std::max(td.max_displacement, sim.displacement().cwiseAbs().maxCoeff());
   };
   auto snapshot = [&]() {
     TransientData::Frame f;
@@ -114,10 +117,33 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   ProgressBar bar(label, steps);
   const double t0 = cpu_seconds();
   long done = 0;
+  auto mark_unstable = [&](long s, std::string why) {
+    if (!td.instability) td.instability = TransientData::Instability{s, sim.time(), std::move(why)};
+  };
   for (long s = 1; s <= steps; ++s) {
     sim.step(dt);
     done = s;
     const EnergyBalance& e = sim.energy();
+    // The generic blow-up checks come before the checkpoints: a checkpoint at a step that
+    // blew up is not reached.
+    if (!std::isfinite(e.kinetic) || !std::isfinite(e.internal_work) ||
+        !std::isfinite(e.external_work) || !sim.displacement().allFinite() ||
+        !sim.velocity().allFinite()) {
+      mark_unstable(s, fmt::format("the fields went non-finite (kinetic energy {:.3g}, internal "
+                                   "work {:.3g})",
+                                   e.kinetic, e.internal_work));
+      break;
+    }
+    energy_in = std::max(energy_in, std::abs(e.external_work));
+    if (energy_in > 0 && e.kinetic > kEnergyBound * energy_in) {
+      mark_unstable(s, fmt::format("kinetic energy {:.3g} above {:g} × the energy put in "
+                                   "(E₀ + max |W_ext| = {:.3g}; the energy balance allows at "
+                                   "most about 1 ×)",
+                                   e.kinetic, kEnergyBound, energy_in));
+      record();
+      if (frame_every) snapshot();
+      break;
+    }
     scale = std::max({scale, e.kinetic, std::abs(e.external_work)});
     worst = std::max(worst, std::abs(e.balance()));
     for (std::size_t c = 0; c < check_steps.size(); ++c)
@@ -125,12 +151,14 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     if (s % sample_every == 0 || s == steps) record();
     if (frame_every && (s % frame_every == 0 || s == steps)) snapshot();
     bar.update(s, sim.time());
-    if (!std::isfinite(e.kinetic)) break;
+    if (plan.unstable && !td.instability)
+      if (std::string why = plan.unstable(sim); !why.empty()) mark_unstable(s, std::move(why));
     if (plan.stop && plan.stop(sim)) break;
   }
   bar.finish();
   r.cpu.solve = cpu_seconds() - t0;
   td.steps = done;
+  td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;
   r.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
 }

@@ -90,9 +90,13 @@ void set_vertices(vtkUnstructuredGrid* grid, const Eigen::MatrixXd& x) {
   grid->SetCells(VTK_VERTEX, cells);
 }
 
-void add_array(vtkUnstructuredGrid* grid, const std::string& name, const Eigen::MatrixXd& m) {
-  // Two components become three (z = 0): ParaView's Warp By Vector wants 3-vectors.
-  const int width = m.rows() == 1 ? 1 : 3;
+void add_array(vtkUnstructuredGrid* grid, const std::string& name, const Eigen::MatrixXd& data) {
+  // Voigt stresses become ParaView's symmetric tensors (XX, YY, ZZ, XY, YZ, XZ), so its
+  // tensor filters (eigenvectors, glyphs) read them; other arrays of two components become
+  // three (z = 0): Warp By Vector wants 3-vectors.
+  const bool tensor = data.rows() == 3 && name.find("stress") != std::string::npos;
+  const Eigen::MatrixXd m = tensor ? stress_tensor(data) : data;
+  const int width = tensor ? 6 : m.rows() == 1 ? 1 : 3;
   vtkNew<vtkDoubleArray> a;
   a->SetName(name.c_str());
   a->SetNumberOfComponents(width);
@@ -100,12 +104,8 @@ void add_array(vtkUnstructuredGrid* grid, const std::string& name, const Eigen::
   for (Eigen::Index i = 0; i < m.cols(); ++i)
     for (int c = 0; c < width; ++c)
       a->SetComponent(to_id(i), c, c < m.rows() ? m(c, i) : 0.0);
-  if (m.rows() == 3 && name.find("stress") != std::string::npos) {
-    // Otherwise ParaView would call them X, Y, Z, which reads as a vector.
-    a->SetComponentName(0, "xx");
-    a->SetComponentName(1, "yy");
-    a->SetComponentName(2, "xy");
-  }
+  if (tensor)
+    for (int c = 0; c < 6; ++c) a->SetComponentName(c, kTensorComponents[c]);
   grid->GetPointData()->AddArray(a);
 }
 

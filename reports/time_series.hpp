@@ -19,8 +19,9 @@ struct ParticleFrame {
   Eigen::MatrixXd x;
   /// (name, components × N) with 1 to 3 rows. One row is a scalar; two rows are a vector
   /// padded with z = 0 to three components so ParaView can warp by it; three rows are kept
-  /// as they are (a Voigt stress xx, yy, xy: an array whose name contains "stress" gets
-  /// those component names).
+  /// as they are, except an array whose name contains "stress": that is Voigt xx, yy, xy and
+  /// is written as a 6-component symmetric tensor (XX, YY, ZZ, XY, YZ, XZ, named;
+  /// reports/vtk.hpp stress_tensor).
   std::vector<std::pair<std::string, Eigen::MatrixXd>> point_data;
 };
 

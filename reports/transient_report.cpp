@@ -1,11 +1,13 @@
 /// The report section of transient problems: engine settings, errors at the checkpoints,
 /// energy drift, time steps and CPU per case, rates, plots of errors and time histories,
 /// history CSV files, published values and ParaView time series.
+#include <algorithm>
 #include <cmath>
 #include <set>
 
 #include <fmt/format.h>
 
+#include "problems/transient.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
 #include "reports/study_report.hpp"
@@ -26,7 +28,89 @@ TimeHistory history_of(const TransientData& t) {
 
 std::string fmt_value(double v) {
   if (std::isnan(v)) return "–";
+  if (v == 0) return "0";
   return std::abs(v) < 1e-2 || std::abs(v) >= 1e5 ? fmt_sci(v, 3) : fmt::format("{:.4g}", v);
+}
+
+/// A headline of one case as the table prints it: NaN is "not reached" in a run stopped as
+/// unstable (its checkpoints came after the stop) and "–" otherwise; a peak of a run stopped
+/// early is a lower bound, "≥ 100 (stopped early)".
+std::string fmt_headline(const std::string& name, double v, const TransientData& t) {
+  if (std::isnan(v)) return t.instability ? "not reached" : "–";
+  if (t.stopped_early && name.rfind("peak", 0) == 0)
+    return fmt::format("≥ {} (stopped early)", fmt_value(v));
+  return fmt_value(v);
+}
+
+/// "unstable at step 9, t = 0.0018" or "ran to the end".
+std::string fmt_run(const TransientData& t) {
+  if (!t.instability) return t.stopped_early ? "stopped early" : "ran to the end";
+  return fmt::format("unstable at step {}, t = {:.4g}", t.instability->step, t.instability->time);
+}
+
+/// Pairs of studies that differ only in the kernel frame (Lagrangian against Eulerian, any
+/// update interval): the largest relative difference of their finite headline values at the
+/// resolutions both ran, and the largest particle displacement over a spacing. Small strain
+/// keeps the Eulerian tables, recomputed at positions that moved a tiny fraction of a spacing,
+/// nearly the Lagrangian ones; the paragraph says so when the numbers agree to the digits
+/// printed.
+std::string frame_comparison(const std::vector<StudyResult>& studies) {
+  auto frame_of = [](const CaseSpec& c) {
+    return c.problem_params.has("frame") ? c.problem_params.text("frame") : "lagrangian";
+  };
+  auto without_frame = [](Params p) {
+    Params out;
+    for (const auto& [k, v] : p.values())
+      if (k != "frame" && k != "update_every" && k != "frames") out.set(k, v);
+    return out.to_string();
+  };
+  std::string md;
+  for (const auto& a : studies)
+    for (const auto& b : studies) {
+      if (a.cases.empty() || b.cases.empty()) continue;
+      const CaseSpec &sa = a.cases.front().spec, &sb = b.cases.front().spec;
+      if (frame_of(sa) != "lagrangian" || frame_of(sb) != "eulerian") continue;
+      // Two blow-ups differ by whatever the instability amplified: nothing to compare.
+      auto unstable = [](const StudyResult& s) {
+        return std::any_of(s.cases.begin(), s.cases.end(),
+                           [](const CaseResult& r) { return r.transient.instability.has_value(); });
+      };
+      if (unstable(a) || unstable(b)) continue;
+      if (sa.method != sb.method || sa.method_params.to_string() != sb.method_params.to_string() ||
+          without_frame(sa.problem_params) != without_frame(sb.problem_params))
+        continue;
+      double worst = 0, moved = 0;
+      int compared = 0;
+      bool same_digits = true;
+      for (const auto& ra : a.cases)
+        for (const auto& rb : b.cases) {
+          if (ra.spec.nodes != rb.spec.nodes) continue;
+          if (ra.h > 0) moved = std::max({moved, ra.transient.max_displacement / ra.h,
+                                          rb.transient.max_displacement / rb.h});
+          for (const auto& [k, va] : ra.headline) {
+            const auto it = rb.headline.find(k);
+            if (it == rb.headline.end() || !std::isfinite(va) || !std::isfinite(it->second) ||
+                k.find("CPU") != std::string::npos)
+              continue;
+            const double scale = std::max(std::abs(va), std::abs(it->second));
+            if (scale > 0) worst = std::max(worst, std::abs(va - it->second) / scale);
+            same_digits = same_digits && fmt_value(va) == fmt_value(it->second);
+            ++compared;
+          }
+        }
+      if (compared == 0) continue;
+      md += fmt::format(
+          "- `{}` (Lagrangian kernel) and `{}` (Eulerian): largest relative difference of their "
+          "{} common headline values {} (CPU excluded); the particles moved at most {} of a "
+          "spacing.{}\n",
+          a.label, b.label, compared, fmt_sci(worst, 2), fmt_sci(moved, 2),
+          same_digits ? " They agree to every printed digit because the strain is small: the "
+                        "Eulerian tables, recomputed at positions that moved that little, are "
+                        "nearly the Lagrangian ones."
+                      : "");
+    }
+  if (md.empty()) return md;
+  return "### Lagrangian and Eulerian kernels\n\n" + md + "\n";
 }
 
 }  // namespace
@@ -60,7 +144,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
         "step) and the time loop; particle-steps/s from the loop's CPU time.\n\n";
   {
     std::vector<std::string> head = {"method", problem->resolution_name(), "particles",
-                                      "stress pts", "quad pts", "dt", "dt/crit", "steps"};
+                                      "stress pts", "quad pts", "dt", "dt/crit", "steps", "run"};
     for (const auto& k : keys) head.push_back(k);
     for (const char* c : {"setup s", "engine s", "loop s", "particle-steps/s"}) head.push_back(c);
     std::vector<char> align(head.size(), 'r');
@@ -74,10 +158,10 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
             r.stress_points > 0 ? std::to_string(r.stress_points) : "–",
             std::to_string(r.quadrature_points), fmt_sci(d.dt, 3),
             d.dt_critical > 0 ? fmt::format("{:.3f}", d.dt / d.dt_critical) : "–",
-            std::to_string(d.steps)};
+            std::to_string(d.steps), fmt_run(d)};
         for (const auto& k : keys) {
           const auto it = r.headline.find(k);
-          row.push_back(it == r.headline.end() ? "–" : fmt_value(it->second));
+          row.push_back(it == r.headline.end() ? "–" : fmt_headline(k, it->second, d));
         }
         row.push_back(fmt::format("{:.3f}", r.cpu.setup));
         row.push_back(fmt::format("{:.3f}", r.cpu.assembly));
@@ -88,21 +172,46 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
       }
     md += t.str() + "\n";
   }
+  // Why each unstable run was called so (the criteria of problems/transient.hpp).
+  {
+    std::string why;
+    for (const auto& s : section.studies)
+      for (const auto& r : s.cases)
+        if (r.transient.instability)
+          why += fmt::format("- `{}` n={}: {}\n", s.label, r.spec.nodes, r.transient.verdict());
+    if (!why.empty())
+      md += fmt::format("**Unstable runs.** A run stops at once when its fields go non-finite or "
+                        "its kinetic energy exceeds {:g} × the energy put in (E₀ + max |W_ext|); "
+                        "a problem may add its own criterion. Checkpoints after the stop are "
+                        "\"not reached\"; a peak of a run stopped early is a lower bound (≥).\n\n{}\n",
+                        kEnergyBound, why);
+  }
+  md += frame_comparison(section.studies);
 
   // Rates of the main error over the resolutions.
   bool several = false;
   for (const auto& s : section.studies) several = several || s.cases.size() > 1;
   fs::create_directories(dir / "plots");
   if (several) {
-    md += "## Convergence of the main error\n\nLeast-squares slope of ln(error) against "
-          "ln(h) and the slopes between successive resolutions (error: the problem's "
-          "relative L2 error, for rod-pulse the velocity error at L/c).\n\n";
+    std::string main_error = "the problem's relative L2 error";
+    for (const auto& st : section.studies)
+      if (!st.cases.empty() && !st.cases.front().transient.main_error.empty())
+        main_error = st.cases.front().transient.main_error;
+    md += fmt::format("## Convergence of the main error\n\nLeast-squares slope of ln(error) "
+                      "against ln(h) and the slopes between successive resolutions (error: {}; "
+                      "a resolution that did not reach its checkpoint leaves the rate "
+                      "undefined, \"–\").\n\n",
+                      main_error);
     MarkdownTable t({"method", "rate", "pairwise"}, {'l', 'r', 'r'});
     for (const auto& s : section.studies)
       t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise)});
     md += t.str() + "\n";
     const std::string name = fmt::format("plots/{}-error.svg", base);
-    const PlotSpec spec = convergence_plot(title + ": main error", section.studies, false);
+    // The axis says what is plotted: the relative error the problem measures, with units.
+    const PlotSpec spec = convergence_plot(
+        title + ": main error", section.studies, main_error,
+        [](const CaseResult& c) { return c.errors.l2_rel; },
+        [](const Rates& r) { return r.l2; });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_error plot skipped: {}_\n\n", *why);
     else

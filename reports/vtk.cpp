@@ -136,15 +136,47 @@ void add_vector_array(vtkPolyData* pd, const char* name, const Eigen::MatrixXd& 
   pd->GetPointData()->AddArray(a);
 }
 
-/// `name`, `name`_exact and `name`_error (computed - exact) as 3-vectors.
+/// Adds Voigt stresses as a symmetric tensor with ParaView's component names.
+void add_tensor_array(vtkPolyData* pd, const char* name, const Eigen::MatrixXd& voigt,
+                      const fs::path& path) {
+  if (voigt.size() == 0) return;
+  if (voigt.rows() != 3)
+    throw std::invalid_argument(fmt::format("cannot write '{}': stress '{}' has {} rows, not the "
+                                            "3 of Voigt xx, yy, xy",
+                                            path.string(), name, voigt.rows()));
+  add_vector_array(pd, name, stress_tensor(voigt), 6, path);
+  vtkDataArray* a = pd->GetPointData()->GetArray(name);
+  for (int c = 0; c < 6; ++c) a->SetComponentName(c, kTensorComponents[c]);
+}
+
+/// `name`, `name`_exact and `name`_error (computed - exact): 3-vectors, or with `tensor`
+/// symmetric tensors.
 void add_with_error(vtkPolyData* pd, const std::string& name, const Eigen::MatrixXd& computed,
-                    const Eigen::MatrixXd& exact, const fs::path& path) {
+                    const Eigen::MatrixXd& exact, const fs::path& path, bool tensor = false) {
+  if (tensor) {
+    add_tensor_array(pd, name.c_str(), computed, path);
+    add_tensor_array(pd, (name + "_exact").c_str(), exact, path);
+    if (computed.size() > 0 && computed.rows() == exact.rows() && computed.cols() == exact.cols())
+      add_tensor_array(pd, (name + "_error").c_str(), computed - exact, path);
+    return;
+  }
   add_vector_array(pd, name.c_str(), computed, 3, path);
   add_vector_array(pd, (name + "_exact").c_str(), exact, 3, path);
   add_vector_array(pd, (name + "_error").c_str(), computed - exact, 3, path);
 }
 
 }  // namespace
+
+Eigen::MatrixXd stress_tensor(const Eigen::MatrixXd& voigt) {
+  if (voigt.rows() != 3)
+    throw std::invalid_argument(fmt::format("stress_tensor: {} rows, not the 3 of Voigt xx, yy, xy",
+                                            voigt.rows()));
+  Eigen::MatrixXd t = Eigen::MatrixXd::Zero(6, voigt.cols());
+  t.row(0) = voigt.row(0);  // XX
+  t.row(1) = voigt.row(1);  // YY
+  t.row(3) = voigt.row(2);  // XY
+  return t;
+}
 
 void write_particles_vtp(const fs::path& path, const CaseResult& r) {
   const CaseFields& f = r.fields;
@@ -155,7 +187,7 @@ void write_particles_vtp(const fs::path& path, const CaseResult& r) {
   vtkNew<vtkPolyData> pd;
   set_points_2d(pd, f.points);
   add_with_error(pd, "displacement", f.disp_h, f.disp_exact, path);
-  add_with_error(pd, "stress", f.stress_h, f.stress_exact, path);
+  add_with_error(pd, "stress", f.stress_h, f.stress_exact, path, true);
   add_point_array(pd, "volume", f.volume, path);
   add_field_data(pd, r);
   write_polydata(path, pd);
@@ -169,7 +201,7 @@ void write_quadrature_vtp(const fs::path& path, const CaseResult& r) {
                                             path.string()));
   vtkNew<vtkPolyData> pd;
   set_points_2d(pd, f.q_points);
-  add_with_error(pd, "stress", f.q_stress_h, f.q_stress_exact, path);
+  add_with_error(pd, "stress", f.q_stress_h, f.q_stress_exact, path, true);
   Eigen::VectorXd is_particle = Eigen::VectorXd::Zero(f.q_points.cols());
   const Eigen::Index np =
       r.quadrature_kind == "gauss-cells" ? 0 : std::min<Eigen::Index>(r.particles, f.q_points.cols());

@@ -1,5 +1,6 @@
 /// VTK XML files of a case's particles and sampled solution, and ParaView collections of them.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -22,15 +23,27 @@ void write_case_vtp(const std::filesystem::path& path, const CaseResult& r);
 /// there is no sampling (fewer than 2 points) or its arrays differ in length.
 void write_line_vtp(const std::filesystem::path& path, const CaseResult& r);
 
+/// The component names of a symmetric tensor in ParaView's 6-component order.
+inline constexpr std::array<const char*, 6> kTensorComponents = {"XX", "YY", "ZZ",
+                                                                 "XY", "YZ", "XZ"};
+
+/// In-plane Voigt stresses (rows xx, yy, xy; N columns) as 6 × N symmetric tensors in
+/// ParaView's order (XX, YY, ZZ, XY, YZ, XZ). The out-of-plane ZZ, YZ, XZ are written 0: exact
+/// for plane stress and for the ν = 0 plane-strain rod (σ_zz = ν (σ_xx + σ_yy)), the 2D
+/// problems the suite runs; the 2D models compute no σ_zz. Throws std::invalid_argument for
+/// another row count.
+Eigen::MatrixXd stress_tensor(const Eigen::MatrixXd& voigt);
+
 /// 2D cases: one vertex per particle at (x, y, 0) with point data "displacement",
 /// "displacement_exact", "displacement_error" (3-vectors, z = 0, so ParaView can warp by
-/// them), "stress", "stress_exact", "stress_error" (Voigt xx, yy, xy), "volume", and field
-/// data "h" and "nodes". Throws std::invalid_argument if the case has no 2D fields.
+/// them), "stress", "stress_exact", "stress_error" (symmetric tensors, stress_tensor, with
+/// component names XX … XZ), "volume", and field data "h" and "nodes". Throws
+/// std::invalid_argument if the case has no 2D fields.
 void write_particles_vtp(const std::filesystem::path& path, const CaseResult& r);
 
 /// 2D cases: one vertex per quadrature point of the method (particles first for nodal and
 /// stress-point rules, then stress points or Gauss points) with "stress", "stress_exact",
-/// "stress_error" and "is_particle".
+/// "stress_error" (symmetric tensors as above) and "is_particle".
 void write_quadrature_vtp(const std::filesystem::path& path, const CaseResult& r);
 
 /// A ParaView collection (.pvd) of (timestep, file) entries, file names relative to the

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include "dynamics/explicit.hpp"
 #include "methods/core/errors.hpp"
@@ -256,6 +257,57 @@ TEST(RodPulse, SphIsWorstAndEfgCellIntegrationBetterAsInTable3) {
   }
   EXPECT_GT(e["sph"], 10 * e["efg-ni"]);
   EXPECT_LT(e["efg-ci"], e["efg-ni"]);
+}
+
+// Issue 12: efg-ci at 1.5 times its critical step used to reach a kinetic energy of 7.8e197
+// and then inf with its errors left at 0. Now the run stops at the blow-up bound, says where,
+// and its errors and rates are "not reached" (NaN), never a number.
+TEST(RodPulse, BlownUpRunStopsAsUnstableWithNoErrors) {
+  CaseSpec s;
+  s.problem = "rod-pulse";
+  s.method = "efg-ci";
+  s.problem_params = Params::parse("safety=1.5,frames=0,samples=20,threads=1");
+  const StudyResult st = run_study(test_catalogue(), s, {61, 121});
+  for (const CaseResult& r : st.cases) {
+    const TransientData& t = r.transient;
+    ASSERT_TRUE(t.instability.has_value()) << r.spec.nodes;
+    EXPECT_TRUE(t.stopped_early);
+    EXPECT_EQ(t.instability->step, t.steps);
+    EXPECT_GT(t.instability->step, 0);
+    EXPECT_NEAR(t.instability->time, t.steps * t.dt, 1e-12 * t.end_time);
+    EXPECT_LT(t.instability->time, t.end_time / 2);  // before the first checkpoint L/c
+    EXPECT_EQ(t.verdict().rfind(fmt::format("unstable at step {}, t = ", t.steps), 0), 0u)
+        << t.verdict();
+    EXPECT_TRUE(std::isnan(r.errors.l2));
+    EXPECT_TRUE(std::isnan(r.errors.l2_rel));
+    EXPECT_TRUE(std::isnan(r.headline.at("velocity error at L/c")));
+    EXPECT_TRUE(std::isnan(r.headline.at("velocity error at 2L/c")));
+    // Every history row that was recorded is finite: the stop came before the overflow.
+    for (const auto& row : t.history)
+      for (double v : row) EXPECT_TRUE(std::isfinite(v));
+  }
+  EXPECT_TRUE(std::isnan(st.rates.l2));
+  EXPECT_TRUE(std::isnan(st.rates.h1_semi));
+  for (double p : st.rates.l2_pairwise) EXPECT_TRUE(std::isnan(p));
+}
+
+// A stable run measures the velocity error only: no H1 error is shown as 0.
+TEST(RodPulse, StableRunHasNoInstabilityAndNoH1Error) {
+  CaseSpec s;
+  s.problem = "rod-pulse";
+  s.method = "efg-ni";
+  s.nodes = 61;
+  s.problem_params = Params::parse("frames=0,samples=20,transits=1");
+  const CaseResult r = run_case(test_catalogue(), s);
+  EXPECT_FALSE(r.transient.instability.has_value());
+  EXPECT_FALSE(r.transient.stopped_early);
+  EXPECT_EQ(r.transient.verdict(), "");
+  EXPECT_TRUE(std::isfinite(r.errors.l2_rel));
+  EXPECT_EQ(r.errors.l2_rel, r.headline.at("velocity error at L/c"));
+  EXPECT_TRUE(std::isnan(r.errors.h1_semi_rel));
+  EXPECT_TRUE(std::isnan(r.errors.energy_rel));
+  EXPECT_NE(r.transient.main_error.find("velocity"), std::string::npos);
+  EXPECT_GT(r.transient.max_displacement, 0.0);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/core/errors.hpp"
 #include "problems/problem.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
@@ -191,6 +192,65 @@ TEST(GrkBar, PlasticStressStaysOnTheHardeningCurve) {
   EXPECT_LE(high.headline.at("max stress / flow stress"), 1.0 + 1e-9);
   EXPECT_GT(high.headline.at("max stress / flow stress"), 0.999);  // it did yield
   EXPECT_EQ(high.headline.at("unstable"), 0.0);
+}
+
+// Issue 12: the unstable rod is marked where the peak first passed 2 v0, stops early, and its
+// peak is then a lower bound; the stable one runs to the end. Neither measures an error.
+TEST(PrestressedRod, InstabilityIsRecordedWithItsStepAndTheRunStopsEarly) {
+  const CaseResult eul = rod("kbm-ni", 1.5, "eulerian", 0.1);
+  ASSERT_TRUE(eul.transient.instability.has_value());
+  EXPECT_NE(eul.transient.instability->reason.find("above 2 v0"), std::string::npos);
+  EXPECT_GT(eul.transient.instability->step, 0);
+  EXPECT_LE(eul.transient.instability->step, eul.transient.steps);
+  EXPECT_TRUE(eul.transient.stopped_early);
+  EXPECT_EQ(eul.headline.at("run stopped early"), 1.0);
+  EXPECT_NEAR(eul.headline.at("onset (transits l/c)") * 0.04 / std::sqrt(1e10 / 2450),
+              eul.transient.instability->time, 1e-15);
+  EXPECT_TRUE(std::isnan(eul.errors.l2));
+
+  const CaseResult lag = rod("kbm-ni", 1.5, "lagrangian", 0.1);
+  EXPECT_FALSE(lag.transient.instability.has_value());
+  EXPECT_FALSE(lag.transient.stopped_early);
+  EXPECT_EQ(lag.headline.at("run stopped early"), 0.0);
+  EXPECT_TRUE(std::isnan(lag.errors.l2));
+  EXPECT_TRUE(lag.transient.main_error.empty());
+}
+
+// The verdicts compare velocities with v0 and v*: a zero or negative kick or load would make
+// every step "unstable", so they are refused.
+TEST(TransientVerdicts, RefuseAReferenceVelocityThatIsNotPositive) {
+  CaseSpec c;
+  c.problem = "prestressed-rod";
+  c.method = "kbm-ni";
+  c.nodes = 41;
+  for (const char* v0 : {"v0=0", "v0=-40"}) {
+    c.problem_params = Params::parse(v0);
+    EXPECT_THROW(run_case(test_catalogue(), c), InputError) << v0;
+  }
+  c.problem = "grk-bar";
+  c.method = "fem";
+  c.nodes = 21;
+  for (const char* f0 : {"F0=0", "F0=-5000"}) {
+    c.problem_params = Params::parse(f0);
+    EXPECT_THROW(run_case(test_catalogue(), c), InputError) << f0;
+  }
+}
+
+// The GRK bar above its critical step blows up before its checkpoints: their errors are
+// "not reached", not 0.
+TEST(GrkBar, UnstableRunLeavesItsCheckpointsNotReached) {
+  const CaseResult r = bar("rkpm", grk(0), "courant=1.35");
+  ASSERT_TRUE(r.transient.instability.has_value());
+  EXPECT_NE(r.transient.instability->reason.find("v*"), std::string::npos);
+  EXPECT_TRUE(r.transient.stopped_early);
+  for (const char* k : {"error u at 1.5 L/c", "error u at 2.5 L/c", "error stress at 2.5 L/c",
+                        "error v at 2.5 L/c"})
+    EXPECT_TRUE(std::isnan(r.headline.at(k))) << k;
+  EXPECT_TRUE(std::isnan(r.errors.l2_rel));
+  EXPECT_TRUE(std::isfinite(r.headline.at("peak velocity / v*")));
+  const CaseResult ok = bar("rkpm", grk(0), "courant=1");
+  EXPECT_FALSE(ok.transient.instability.has_value());
+  EXPECT_TRUE(std::isfinite(ok.errors.l2_rel));
 }
 
 }  // namespace

@@ -262,8 +262,9 @@ TEST_F(ManifestTest, ExampleManifestLoads) {
   // full_nodes, perturbation and labels appear somewhere.
   std::set<std::string> metrics;
   bool headline = false, problem_params = false, method_params = false, full_nodes = false,
-       perturbation = false, labels = false;
+       perturbation = false, labels = false, expect_unstable = false;
   for (const auto& c : m.cases) {
+    expect_unstable |= c.expect_unstable;
     for (const auto& [name, band] : c.bands) metrics.insert(name);
     headline |= !c.headline_bands.empty();
     problem_params |= !c.problem_params.values().empty();
@@ -279,6 +280,7 @@ TEST_F(ManifestTest, ExampleManifestLoads) {
   EXPECT_TRUE(full_nodes);
   EXPECT_TRUE(perturbation);
   EXPECT_TRUE(labels);
+  EXPECT_TRUE(expect_unstable);
   EXPECT_NO_THROW(m.find("laplace-tanh/fem"));
   EXPECT_EQ(m.find("laplace-tanh/fem").headline_bands.count("peak du/dx at x=3"), 1u);
 }
@@ -1174,3 +1176,154 @@ TEST_F(BaselineTest, RoundTripThenCheckDriftIsClean) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Non-finite values: never a pass (issue 12)
+
+TEST_F(ManifestTest, BandThatAdmitsNoFiniteValueIsALoadError) {
+  for (const char* band : {"l2_finest = [inf, inf]\n", "l2_finest = [-inf, -inf]\n",
+                           "l2_finest = [nan, 1.0]\n"}) {
+    const fs::path p = write("m.toml", a_case("a", std::string("[case.bands]\n") + band));
+    const std::string msg = manifest_error(p);
+    EXPECT_TRUE(AtLine(msg, p, 7)) << band;
+    EXPECT_HAS(msg, "l2_finest");
+  }
+}
+
+TEST_F(CheckBandsTest, InfiniteValueViolatesAnOpenBand) {
+  const ManifestCase c = with_bands("l2_finest = [0.0, inf]\n"
+                                    "headline = { \"peak du/dx at x=3\" = [-inf, inf] }\n");
+  StudyResult s = study();
+  s.cases.back().errors.l2 = kInf;
+  s.cases.back().headline["peak du/dx at x=3"] = -kInf;
+  const auto v = check_bands(c, s, "bands.toml");
+  ASSERT_EQ(v.size(), 2u);
+  EXPECT_EQ(v[0].metric, "l2_finest");
+  EXPECT_HAS(v[0].message, "outside the band");
+  EXPECT_EQ(v[1].metric, "headline:peak du/dx at x=3");
+}
+
+TEST_F(BaselineTest, NonFiniteNumberIsALoadErrorButTheNanStringIsNoValue) {
+  for (const char* value : {"inf", "-inf", "nan", "+inf"}) {
+    const fs::path p = write("b.toml", std::string("[cases.a]\nl2_rate = 2.0\nh1_rate = 1.0\n"
+                                                   "resolutions = [\n"
+                                                   "  { nodes = 21, l2 = ") +
+                                           value + ", h1 = 2, l2_rel = 3, h1_rel = 4 },\n]\n");
+    const std::string msg = baseline_error(p);
+    EXPECT_TRUE(AtLine(msg, p, 5)) << value;
+    EXPECT_HAS(msg, "not finite");
+  }
+  const fs::path ok = write("ok.toml", "[cases.a]\nl2_rate = \"nan\"\nh1_rate = 1.0\n"
+                                       "resolutions = [\n"
+                                       "  { nodes = 21, l2 = 1, h1 = \"nan\", l2_rel = 3, h1_rel = 4 },\n]\n");
+  const Baseline b = load_baseline(ok);
+  EXPECT_TRUE(std::isnan(b.cases.at("a").l2_rate));
+  EXPECT_TRUE(std::isnan(b.cases.at("a").resolutions.at(0).h1));
+}
+
+TEST_F(BaselineTest, WriterRecordsInfAsNoValueSoTheFileLoads) {
+  Baseline b;
+  BaselineCase c;
+  c.l2_rate = kInf;
+  c.h1_rate = 1.0;
+  c.resolutions = {{21, kInf, -kInf, 1.0, 2.0}};
+  b.cases["a"] = c;
+  const fs::path p = write("b.toml", baseline_to_toml(b));
+  const Baseline r = load_baseline(p);
+  EXPECT_TRUE(std::isnan(r.cases.at("a").l2_rate));
+  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).l2));
+  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).h1));
+}
+
+TEST(CheckDrift, NonFiniteCurrentAgainstAFiniteBaselineIsWorse) {
+  for (double bad : {kInf, -kInf, kNaN}) {
+    BaselineCase cur = drift_case();
+    cur.resolutions[1].l2 = bad;
+    cur.h1_rate = bad;
+    const auto d = check_drift("a", drift_case(), cur, 0.05, 1e-12);
+    ASSERT_EQ(d.size(), 2u) << bad;
+    for (const auto& x : d) EXPECT_TRUE(x.worse) << x.message;
+  }
+}
+
+TEST(CheckDrift, InfiniteBaselineDoesNotSwitchTheCheckOff) {
+  BaselineCase base = drift_case();
+  base.resolutions[0].l2 = kInf;  // as if read from a hand-edited file
+  const auto d = check_drift("a", base, drift_case(), 0.05, 1e-12);
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].metric, "l2");
+  EXPECT_EQ(d[0].nodes, 21);
+}
+
+// ---------------------------------------------------------------------------------------------
+// expect = "unstable" and check_stability
+
+TEST_F(ManifestTest, ExpectKeyParsesAndRefusesOtherValues) {
+  {
+    const fs::path p = write("m.toml", a_case("a", "expect = \"unstable\"\n") +
+                                           a_case("b", "expect = \"stable\"\n") + a_case("c"));
+    const Manifest m = load_manifest(p);
+    EXPECT_TRUE(m.cases.at(0).expect_unstable);
+    EXPECT_FALSE(m.cases.at(1).expect_unstable);
+    EXPECT_FALSE(m.cases.at(2).expect_unstable);
+  }
+  for (const char* bad : {"expect = \"blows up\"\n", "expect = true\n"}) {
+    const fs::path p = write("m.toml", a_case("a", bad));
+    const std::string msg = manifest_error(p);
+    EXPECT_TRUE(AtLine(msg, p, 6)) << bad;
+    EXPECT_HAS(msg, "expect");
+  }
+}
+
+namespace {
+/// A transient study of two resolutions; `unstable_at` marks those that blew up.
+StudyResult transient_study(std::vector<bool> unstable_at) {
+  StudyResult s;
+  int nodes = 121;
+  for (bool u : unstable_at) {
+    CaseResult r;
+    r.spec.nodes = nodes;
+    nodes = 2 * nodes - 1;
+    r.transient.steps = 100;
+    r.transient.end_time = 0.023;
+    if (u) r.transient.instability = TransientData::Instability{9, 0.0018, "kinetic energy 2.75"};
+    s.cases.push_back(r);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(CheckStability, UnstableRunFailsUnlessExpected) {
+  ManifestCase c;
+  c.id = "rod-pulse/efg-ci";
+  c.problem = "rod-pulse";
+  const auto fails = check_stability(c, transient_study({false, true}));
+  ASSERT_EQ(fails.size(), 1u);
+  EXPECT_HAS(fails[0], "rod-pulse/efg-ci: 241 nodes: unstable at step 9, t = 0.0018");
+  EXPECT_TRUE(check_stability(c, transient_study({false, false})).empty());
+  c.expect_unstable = true;
+  EXPECT_TRUE(check_stability(c, transient_study({true, true})).empty());
+}
+
+TEST(CheckStability, ExpectedInstabilityThatStaysStableFails) {
+  ManifestCase c;
+  c.id = "grk-bar/grk-j0-courant1.35";
+  c.expect_unstable = true;
+  const auto fails = check_stability(c, transient_study({true, false}));
+  ASSERT_EQ(fails.size(), 1u);
+  EXPECT_HAS(fails[0], "241 nodes: expected unstable");
+  EXPECT_HAS(fails[0], "stayed stable");
+}
+
+TEST(CheckStability, ExpectUnstableOnAStaticProblemIsReported) {
+  ManifestCase c;
+  c.id = "laplace-tanh/fem";
+  c.problem = "laplace-tanh";
+  StudyResult s;
+  s.cases.resize(2);  // no transient steps
+  EXPECT_TRUE(check_stability(c, s).empty());
+  c.expect_unstable = true;
+  const auto fails = check_stability(c, s);
+  ASSERT_EQ(fails.size(), 1u);
+  EXPECT_HAS(fails[0], "applies to transient runs");
+}

@@ -24,11 +24,14 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "reports/plot.hpp"
 #include "reports/progress.hpp"
 #include "reports/time_series.hpp"
+#include "reports/vtk.hpp"
 
 namespace fs = std::filesystem;
 using namespace mfv;
@@ -120,15 +123,20 @@ TEST(VtuSeries, FramesReadBackWithPointsArraysAndValues) {
   ASSERT_NE(s, nullptr);
   EXPECT_EQ(rho->GetNumberOfComponents(), 1);
   EXPECT_EQ(v->GetNumberOfComponents(), 3);  // padded so ParaView can warp by it
-  EXPECT_EQ(s->GetNumberOfComponents(), 3);  // Voigt, kept
-  EXPECT_STREQ(s->GetComponentName(2), "xy");
+  // Voigt xx, yy, xy written as ParaView's symmetric tensor XX, YY, ZZ, XY, YZ, XZ.
+  ASSERT_EQ(s->GetNumberOfComponents(), 6);
+  const char* names[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  for (int c = 0; c < 6; ++c) EXPECT_STREQ(s->GetComponentName(c), names[c]) << c;
   for (vtkIdType i = 0; i < 4; ++i) {
     EXPECT_DOUBLE_EQ(rho->GetComponent(i, 0), expect.point_data[0].second(0, i));
     EXPECT_DOUBLE_EQ(v->GetComponent(i, 0), expect.point_data[1].second(0, i));
     EXPECT_DOUBLE_EQ(v->GetComponent(i, 1), expect.point_data[1].second(1, i));
     EXPECT_EQ(v->GetComponent(i, 2), 0.0);
-    for (int c = 0; c < 3; ++c)
-      EXPECT_DOUBLE_EQ(s->GetComponent(i, c), expect.point_data[2].second(c, i));
+    const Eigen::MatrixXd& voigt = expect.point_data[2].second;
+    EXPECT_DOUBLE_EQ(s->GetComponent(i, 0), voigt(0, i));
+    EXPECT_DOUBLE_EQ(s->GetComponent(i, 1), voigt(1, i));
+    EXPECT_DOUBLE_EQ(s->GetComponent(i, 3), voigt(2, i));
+    for (int c : {2, 4, 5}) EXPECT_EQ(s->GetComponent(i, c), 0.0) << c;  // out of plane
   }
   vtkDataArray* time = g->GetFieldData()->GetArray("TimeValue");
   ASSERT_NE(time, nullptr);
@@ -138,6 +146,59 @@ TEST(VtuSeries, FramesReadBackWithPointsArraysAndValues) {
   ReadBack first(dir.path() / "series" / "particles_0000.vtu");
   EXPECT_DOUBLE_EQ(first.grid->GetPoint(1)[0], 1.0);
   EXPECT_DOUBLE_EQ(first.grid->GetPointData()->GetArray("density")->GetComponent(3, 0), 1.3);
+}
+
+// The static 2D writers (reports/vtk.cpp) write the same tensor layout for the computed,
+// exact and error stresses, at the particles and at the quadrature points.
+TEST(VtkStress, StaticWritersWriteNamedSymmetricTensors) {
+  TempDir dir;
+  CaseResult r;
+  r.h = 1;
+  r.particles = 3;
+  r.quadrature_kind = "nodal";
+  CaseFields& f = r.fields;
+  f.points.resize(2, 3);
+  f.points << 0, 1, 2,  //
+      0, 0, 1;
+  f.disp_h = f.disp_exact = Eigen::MatrixXd::Zero(2, 3);
+  f.stress_h.resize(3, 3);
+  f.stress_h << 1, 2, 3,  //
+      4, 5, 6,            //
+      7, 8, 9;
+  f.stress_exact = Eigen::MatrixXd::Constant(3, 3, 0.5);
+  f.volume = Eigen::VectorXd::Ones(3);
+  f.q_points = f.points;
+  f.q_stress_h = f.stress_h;
+  f.q_stress_exact = f.stress_exact;
+  const char* names[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  for (const char* file : {"particles.vtp", "quadrature.vtp"}) {
+    const fs::path p = dir.path() / file;
+    if (std::string(file) == "particles.vtp")
+      write_particles_vtp(p, r);
+    else
+      write_quadrature_vtp(p, r);
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName(p.c_str());
+    reader->Update();
+    vtkPolyData* pd = reader->GetOutput();
+    ASSERT_EQ(pd->GetNumberOfPoints(), 3) << file;
+    for (const char* array : {"stress", "stress_exact", "stress_error"}) {
+      vtkDataArray* a = pd->GetPointData()->GetArray(array);
+      ASSERT_NE(a, nullptr) << file << " " << array;
+      ASSERT_EQ(a->GetNumberOfComponents(), 6) << file << " " << array;
+      for (int c = 0; c < 6; ++c) EXPECT_STREQ(a->GetComponentName(c), names[c]) << array;
+    }
+    vtkDataArray* s = pd->GetPointData()->GetArray("stress");
+    vtkDataArray* e = pd->GetPointData()->GetArray("stress_error");
+    for (vtkIdType i = 0; i < 3; ++i) {
+      EXPECT_EQ(s->GetComponent(i, 0), f.stress_h(0, i));  // XX
+      EXPECT_EQ(s->GetComponent(i, 1), f.stress_h(1, i));  // YY
+      EXPECT_EQ(s->GetComponent(i, 3), f.stress_h(2, i));  // XY
+      for (int c : {2, 4, 5}) EXPECT_EQ(s->GetComponent(i, c), 0.0);
+      EXPECT_EQ(e->GetComponent(i, 3), f.stress_h(2, i) - 0.5);
+    }
+  }
+  EXPECT_THROW(stress_tensor(Eigen::MatrixXd::Zero(2, 3)), std::invalid_argument);
 }
 
 TEST(VtuSeries, OneDimensionalPositionsLieOnTheXAxis) {

@@ -30,16 +30,23 @@ double number(const std::filesystem::path& p, const toml::table& t, const std::s
   const toml::node* n = t.get(key);
   if (!n) fail(p, line, fmt::format("missing '{}'", key));
   if (auto i = n->as_integer()) return static_cast<double>(i->get());
-  if (auto f = n->as_floating_point()) return f->get();
-  // NaN is written as the string "nan" so that the file stays readable by any TOML reader.
+  // An inf or nan float would turn the drift check into a comparison that never fails.
+  if (auto f = n->as_floating_point()) {
+    if (!std::isfinite(f->get()))
+      fail(p, line_of(*n), fmt::format("'{}' = {} is not finite", key, f->get()));
+    return f->get();
+  }
+  // "Not measured" (a norm the problem does not compute, a checkpoint not reached) is the
+  // string "nan", so that the file stays readable by any TOML reader.
   if (auto s = n->as_string(); s && s->get() == "nan") return kNaN;
   fail(p, line_of(*n), fmt::format("'{}' must be a number", key));
 }
 
-/// 17 significant digits: writing and re-reading a double is exact.
+/// 17 significant digits: writing and re-reading a double is exact. A value that is not
+/// finite is recorded as "nan" (no value): a baseline never holds an inf (load_baseline
+/// refuses one).
 std::string exact(double v) {
-  if (std::isnan(v)) return "\"nan\"";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (!std::isfinite(v)) return "\"nan\"";
   std::string s = fmt::format("{:.17g}", v);
   // TOML needs a '.' or an exponent for a float.
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
@@ -142,8 +149,10 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
                                             "--update-baseline")});
   };
 
+  // A value that is not finite is no value: inf against a number is a drift (worse when it is
+  // the current one), never a NaN relative change that passes every tolerance.
   auto compare_error = [&](const std::string& metric, int nodes, double b, double c) {
-    const bool bn = std::isnan(b), cn = std::isnan(c);
+    const bool bn = !std::isfinite(b), cn = !std::isfinite(c);
     if (bn && cn) return;
     const std::string where = fmt::format("at {} nodes", nodes);
     if (bn || cn) {
@@ -155,7 +164,7 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
     if (std::abs(rel) > tolerance) add(metric, nodes, b, c, rel, c > b, where);
   };
   auto compare_rate = [&](const std::string& metric, double b, double c) {
-    const bool bn = std::isnan(b), cn = std::isnan(c);
+    const bool bn = !std::isfinite(b), cn = !std::isfinite(c);
     if (bn && cn) return;
     if (bn || cn) {
       add(metric, 0, b, c, kNaN, cn, "");

@@ -15,7 +15,9 @@
 //   ]
 //
 // Numbers carry 17 significant digits so that writing and re-reading is exact. "h1" is the H1
-// seminorm ‖e'‖ (ErrorNorms::h1_semi), as in the manifest's bands.
+// seminorm ‖e'‖ (ErrorNorms::h1_semi), as in the manifest's bands. The string "nan" records
+// "no value" (a norm the problem does not measure, a checkpoint a run did not reach, a rate of
+// one resolution); a float inf or nan is a load error naming file:line.
 #include <filesystem>
 #include <map>
 #include <string>
@@ -67,7 +69,8 @@ struct Drift {
 /// `tolerance`, unless both values are below `floor` (round-off); worse = cur > base.
 /// Rates: a drift when |cur - base| > tolerance·max(1, |base|); worse = cur < base.
 /// A resolution present in only one of them is a drift of metric "resolution" (NaN values)
-/// asking to re-run --update-baseline. NaN against a number is a drift; NaN against NaN is not.
+/// asking to re-run --update-baseline. A non-finite value (NaN, inf) against a number is a
+/// drift, worse when the current value is the non-finite one; NaN against NaN is not.
 std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& base,
                                const BaselineCase& current, double tolerance, double floor);
 

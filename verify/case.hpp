@@ -3,10 +3,12 @@
 #pragma once
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include "methods/core/params.hpp"
 
@@ -20,6 +22,14 @@ struct ErrorNorms {
   /// Energy norm sqrt(∫ σ(e):ε(e)) (001 eqs 73–74 with the customary square root; in 1D
   /// the H1 seminorm).
   double energy = 0, energy_rel = 0;
+  /// Every norm NaN: what a run reports for a norm it does not measure (a transient case has
+  /// no H1 error) or a checkpoint it did not reach (a run stopped as unstable); printed
+  /// "–" / "not reached", never 0.
+  static ErrorNorms not_measured() {
+    ErrorNorms e;
+    e.l2 = e.l2_rel = e.h1_semi = e.h1_semi_rel = e.h1 = e.h1_rel = e.energy = e.energy_rel = NAN;
+    return e;
+  }
 };
 
 /// CPU seconds of the phases of one case.
@@ -77,7 +87,16 @@ struct CaseFields {
 struct TransientData {
   double dt = 0, dt_critical = 0, end_time = 0;
   long steps = 0, retabulations = 0;
+  /// The run ended before its end time (unstable, or a problem's stop cap): peak values
+  /// measured over it are lower bounds of what the full run would reach.
+  bool stopped_early = false;
+  /// The largest displacement component of the unknowns over the sampled steps (the report
+  /// compares it with the spacing: how far an Eulerian kernel's particles moved).
+  double max_displacement = 0;
   std::string dynamics;  ///< the engine's description (frame, integrator, material, viscosity)
+  /// What errors.l2_rel measures, with its units, for axis labels ("relative L2 velocity
+  /// error ‖v_h − v‖/‖v‖ at t = L/c (001 eq 75), dimensionless"); empty: no error measured.
+  std::string main_error;
   /// Time histories: columns "time", "kinetic", "internal work", "external work",
   /// "energy balance", then the problem's probes; one row per sample.
   std::vector<std::string> history_columns;
@@ -89,6 +108,21 @@ struct TransientData {
     std::vector<std::pair<std::string, Eigen::MatrixXd>> data;
   };
   std::vector<Frame> frames;
+  /// Set when the run was found unstable (problems/transient.hpp states the criteria): the
+  /// step and time at which it was detected and why. The run stops there (a problem's own
+  /// criterion may let it run on to its cap); checkpoints after it are not reached.
+  struct Instability {
+    long step = 0;
+    double time = 0;
+    std::string reason;  ///< "kinetic energy 3.1e+12 above 1e4 × the energy put in (…)"
+  };
+  std::optional<Instability> instability;
+  /// "unstable at step k, t = …: <reason>", or "" for a stable run.
+  std::string verdict() const {
+    if (!instability) return "";
+    return fmt::format("unstable at step {}, t = {:.6g}: {}", instability->step,
+                       instability->time, instability->reason);
+  }
 };
 
 /// What a stability or time-step analysis (a problem with analysis() true) records besides

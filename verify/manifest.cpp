@@ -205,6 +205,10 @@ Band get_band(const Reporter& r, const toml::node& n, const std::string& name) {
   if (std::isnan(*low) || std::isnan(*high))
     r.fail(line_of(n), fmt::format("band '{}' holds nan", name),
            "use inf or -inf for a one-sided band");
+  if (*low == std::numeric_limits<double>::infinity() ||
+      *high == -std::numeric_limits<double>::infinity())
+    r.fail(line_of(n), fmt::format("band '{}' = [{}, {}] admits no finite value", name, *low, *high),
+           "only the low bound may be -inf and only the high bound inf (a one-sided band)");
   if (*low > *high)
     r.fail(line_of(n), fmt::format("band '{}' has low {} > high {}", name, *low, *high),
            fmt::format("swap them: {} = [{}, {}]", name, *high, *low));
@@ -218,7 +222,7 @@ bool has_whitespace(const std::string& s) {
 ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   static const std::vector<std::string> kKeys = {
       "id",    "problem",    "problem_params", "method", "method_params", "nodes",
-      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance"};
+      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance", "expect"};
   ManifestCase c;
   c.line = line_of(t);
   c.id = get_string(r, require(r, t, "id", "[[case]]", "id = \"laplace-tanh/fem\""), "id");
@@ -245,6 +249,13 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
     if (*c.drift_tolerance <= 0)
       r.fail(line_of(*n), fmt::format("drift_tolerance {} is not positive", *c.drift_tolerance),
              "give a relative tolerance > 0, or leave it out to use the suite's");
+  }
+  if (auto n = t.get("expect")) {
+    const std::string e = get_string(r, *n, "expect");
+    if (e != "stable" && e != "unstable")
+      r.fail(line_of(*n), fmt::format("expect = \"{}\" is neither \"stable\" nor \"unstable\"", e),
+             "write expect = \"unstable\" for a transient case meant to blow up, or leave it out");
+    c.expect_unstable = e == "unstable";
   }
   if (auto n = t.get("labels")) {
     const auto* a = n->as_array();
@@ -422,7 +433,8 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
 
   auto check = [&](const std::string& metric, const std::string& shown_name, double value,
                    const Band& band, const std::string& why_nan) {
-    if (value >= band.low && value <= band.high) return;  // false for NaN
+    // A non-finite value is outside every band, [0, inf] included.
+    if (std::isfinite(value) && value >= band.low && value <= band.high) return;
     std::string msg;
     if (std::isnan(value))
       msg = fmt::format("{}: {} is not a number ({}), so it cannot be inside the band {} {}",
@@ -479,6 +491,29 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
       continue;
     }
     check(metric, shown, it->second, band, "the run produced NaN");
+  }
+  return out;
+}
+
+std::vector<std::string> check_stability(const ManifestCase& c, const StudyResult& s) {
+  std::vector<std::string> out;
+  const bool transient = std::any_of(s.cases.begin(), s.cases.end(),
+                                     [](const CaseResult& r) { return r.transient.steps > 0; });
+  if (!transient) {
+    if (c.expect_unstable)
+      out.push_back(fmt::format("{}: expect = \"unstable\" applies to transient runs; problem '{}' "
+                                "has none: remove the key",
+                                c.id, c.problem));
+    return out;
+  }
+  for (const CaseResult& r : s.cases) {
+    const TransientData& t = r.transient;
+    if (t.instability && !c.expect_unstable)
+      out.push_back(fmt::format("{}: {} nodes: {}", c.id, r.spec.nodes, t.verdict()));
+    else if (!t.instability && c.expect_unstable)
+      out.push_back(fmt::format("{}: {} nodes: expected unstable (expect = \"unstable\"), but the "
+                                "run stayed stable for {} steps to t = {:.6g}",
+                                c.id, r.spec.nodes, t.steps, t.end_time));
   }
   return out;
 }

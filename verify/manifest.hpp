@@ -26,6 +26,14 @@
 //   drift_tolerance = 0.5                     # optional, > 0: overrides the suite's for this
 //                                             # case (ill-conditioned systems whose errors
 //                                             # carry round-off)
+//   expect = "unstable"                       # optional, "stable" (default) or "unstable":
+//                                             # transient runs only. A run that blows up (see
+//                                             # problems/transient.hpp: non-finite fields,
+//                                             # kinetic energy above 1e4 × the energy put in,
+//                                             # or the problem's own criterion) fails the case
+//                                             # with "unstable at step k, t = …" unless the case
+//                                             # expects it; a case that expects instability
+//                                             # fails at every resolution that stays stable.
 //   [case.bands]                              # optional; each band is [low, high], low <= high
 //   l2_rate = [1.9, 2.1]                      # least-squares rates over the resolutions
 //   h1_rate = [0.9, 1.1]
@@ -38,8 +46,9 @@
 //
 // Unknown keys anywhere are errors rather than being ignored, so that a typo such as
 // `l2_rte` cannot silently drop a check. Parameter values: integers and floats become numbers,
-// strings stay text, booleans become the text "true"/"false". A band bound may be `inf` or
-// `-inf` for a one-sided band. "h1" means the H1 seminorm ‖e'‖ throughout, as in the paper.
+// strings stay text, booleans become the text "true"/"false". A band bound may be `-inf` (low)
+// or `inf` (high) for a one-sided band; nan, a low of inf or a high of -inf is an error. A
+// measured value that is not finite is outside every band. "h1" means the H1 seminorm ‖e'‖ throughout, as in the paper.
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -65,6 +74,7 @@ struct ManifestCase {
   double perturbation = 0;
   std::vector<std::string> labels;
   std::optional<double> drift_tolerance;       ///< overrides Manifest::drift_tolerance
+  bool expect_unstable = false;                ///< `expect = "unstable"`
   std::map<std::string, Band> bands;           ///< keyed by a name from band_metrics()
   std::map<std::string, Band> headline_bands;  ///< keyed by the problem's headline name
   int line = 0;                                ///< line of the case's [[case]] header
@@ -105,6 +115,13 @@ struct BandViolation {
 /// `manifest_file` is the name printed with the band's line.
 std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult& s,
                                        const std::string& manifest_file);
+
+/// The stability of a transient study against the case's `expect`: one message per
+/// resolution that blew up when stability was expected ("<id>: 121 nodes: unstable at step 9,
+/// t = 0.0018: …"), or that stayed stable under `expect = "unstable"`. Each is a failure.
+/// A study without transient runs gives nothing, unless it expects instability (then the
+/// message says that `expect` applies to transient problems only).
+std::vector<std::string> check_stability(const ManifestCase& c, const StudyResult& s);
 
 namespace detail {
 /// The whole content of a text file; throws InputError "cannot read <what> <path>: <errno

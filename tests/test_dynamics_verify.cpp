@@ -1,0 +1,99 @@
+/// `mfv verify` on transient cases (issue 12): a run that blows up is a FAIL with "unstable at
+/// step k, t = …" and exit 1, unless the case says expect = "unstable"; a case that expects
+/// instability and stays stable fails too. The blown-up rod is the issue's reproduction:
+/// efg-ci at 1.5 times its critical step (it used to reach 7.8e197, then inf, and PASS).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "apps/commands.hpp"
+
+namespace mfv {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TransientVerify : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> n{0};
+    dir_ = fs::temp_directory_path() / ("mfv-transient-verify-" + std::to_string(::getpid()) +
+                                        "-" + std::to_string(n++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// One rod-pulse case at 61 nodes with the given problem parameters and extra lines.
+  int verify(const std::string& problem_params, const std::string& extra, std::string& out) {
+    const fs::path m = dir_ / "suite.toml";
+    std::ofstream(m) << "[suite]\nname = \"t\"\n[[case]]\nid = \"rod/efg-ci\"\n"
+                        "problem = \"rod-pulse\"\nmethod = \"efg-ci\"\n"
+                        "problem_params = { "
+                     << problem_params
+                     << ", frames = 0, samples = 10, transits = 1, threads = 1 }\n"
+                        "nodes = [61]\n"
+                     << extra;
+    VerifyOptions o;
+    o.manifest = m.string();
+    o.no_report = true;
+    std::ostringstream s, progress;
+    const int rc = command_verify(catalogue_, o, s, progress);
+    out = s.str();
+    return rc;
+  }
+
+  const Catalogue catalogue_;
+  fs::path dir_;
+};
+
+TEST_F(TransientVerify, BlownUpRunFailsWithItsStep) {
+  std::string out;
+  EXPECT_EQ(verify("safety = 1.5", "", out), 1) << out;
+  EXPECT_NE(out.find("rod/efg-ci: 61 nodes: unstable at step "), std::string::npos) << out;
+  EXPECT_NE(out.find("FAIL"), std::string::npos);
+  EXPECT_EQ(out.find("PASS"), std::string::npos) << out;
+}
+
+TEST_F(TransientVerify, ExpectedInstabilityPassesOnlyWhenItHappens) {
+  std::string out;
+  EXPECT_EQ(verify("safety = 1.5", "expect = \"unstable\"\n", out), 0) << out;
+  EXPECT_NE(out.find("PASS"), std::string::npos) << out;
+  EXPECT_EQ(verify("safety = 0.8", "expect = \"unstable\"\n", out), 1) << out;
+  EXPECT_NE(out.find("expected unstable"), std::string::npos) << out;
+  EXPECT_EQ(verify("safety = 0.8", "", out), 0) << out;
+}
+
+// The rod pulse measures a velocity error only: `mfv study` shows its H1 error as "–", not as
+// "0.000e+00"; `mfv run` of the blown-up rod prints the verdict and "not reached".
+TEST_F(TransientVerify, StudyAndRunSayWhatWasNotMeasuredOrReached) {
+  CompareOptions o;
+  o.problem = "rod-pulse";
+  o.problem_params = "frames=0,samples=10,transits=1,threads=1";
+  o.methods = {"efg-ni"};
+  o.nodes = {61};
+  std::ostringstream study, progress;
+  EXPECT_EQ(command_compare(catalogue_, o, study, progress), 0);
+  EXPECT_EQ(study.str().find("0.000e+00"), std::string::npos) << study.str();
+
+  RunOptions r;
+  r.problem = "rod-pulse";
+  r.method = "efg-ci";
+  r.problem_params = "safety=1.5,frames=0,threads=1";
+  r.nodes = 61;
+  std::ostringstream run;
+  command_run(catalogue_, r, run);
+  EXPECT_NE(run.str().find("verdict   unstable at step "), std::string::npos) << run.str();
+  const std::string text = run.str();
+  const auto at = text.find("velocity error at L/c ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const std::string line = text.substr(at, text.find('\n', at) - at);
+  EXPECT_NE(line.find("not reached"), std::string::npos) << line;
+  EXPECT_NE(run.str().find("(stopped early; end time "), std::string::npos) << run.str();
+}
+
+}  // namespace
+}  // namespace mfv
