@@ -534,10 +534,14 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                                                       : fmt::format("{} drift(s)", oc.drifts.size());
     const bool vector_field = oc.study && !oc.study->cases.empty() &&
                               oc.study->cases.front().components > 1;
+    // A run that blew up (or stayed stable against expect = "unstable") says so here too.
     const std::string bands_state =
-        oc.error.empty()
-            ? (oc.bands.empty() ? "inside" : fmt::format("{} violated", oc.bands.size()))
-            : "not run";
+        !oc.error.empty()       ? "not run"
+        : !oc.stability.empty() ? (oc.bands.empty() ? "inside; stability wrong"
+                                                    : fmt::format("{} violated; stability wrong",
+                                                                  oc.bands.size()))
+        : oc.bands.empty()      ? "inside"
+                                : fmt::format("{} violated", oc.bands.size());
     verdicts.add_row(
         {oc.mc->id, oc.mc->problem, oc.mc->method, fmt::format("{}", fmt::join(nodes, ",")),
          oc.study ? fmt_rate(oc.study->rates.l2) : "–",
