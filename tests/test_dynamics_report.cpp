@@ -40,7 +40,12 @@ std::string section_of(const std::vector<StudyResult>& studies, const fs::path& 
   std::vector<ReportSection> sections;
   for (const auto& s : studies) add_to_sections(sections, s);
   EXPECT_EQ(sections.size(), 1u);
-  return write_problem_section(test_catalogue(), sections.front(), dir, false);
+  // The detail is on the problem's page; index.md gets the returned summary.
+  const std::string summary =
+      write_problem_section(test_catalogue(), sections.front(), dir, false);
+  const fs::path page = dir / "problems" / (slug(sections.front().problem) + ".md");
+  EXPECT_TRUE(fs::exists(page)) << page;
+  return test::read_file(page) + "\n" + summary;
 }
 
 TEST(TransientReport, PrestressedRodShowsInstabilityCapsAndCriteria) {
