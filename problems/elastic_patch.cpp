@@ -11,6 +11,10 @@ namespace {
 
 class ElasticPatch final : public Problem {
  public:
+  ElasticPatch() {
+    material_.E = 1.0;
+    material_.nu = 0.25;
+  }
   Domain domain() const override { return Domain::rectangle(0, 0, 1, 1); }
   int components() const override { return 2; }
   std::string resolution_name() const override { return "particles per side"; }
@@ -35,8 +39,7 @@ class ElasticPatch final : public Problem {
 
   AssembledSystem assemble(const Discretization& d) const override {
     ElasticityBVP bvp;
-    bvp.material.E = 1.0;
-    bvp.material.nu = 0.25;
+    bvp.material = material_;
     for (int side = 0; side < 4; ++side)
       bvp.displacements[side] = [this](const Eigen::MatrixXd& X) {
         Eigen::MatrixXd u, g;
@@ -46,11 +49,23 @@ class ElasticPatch final : public Problem {
     return assemble_elasticity(d, bvp);
   }
 
+  /// The energy norm's integrand σ(∇v):ε(∇v) and the stress (Voigt xx, yy, xy) for VTK
+  /// files, of the patch's material rather than the default gradient.
+  Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const override {
+    const Eigen::MatrixXd e = LinearElastic::strain(grad);
+    return (e.array() * (material_.D() * e).array()).colwise().sum().transpose();
+  }
+  Eigen::MatrixXd flux(const Eigen::MatrixXd& grad) const override { return material_.stress(grad); }
+  std::vector<std::string> flux_names() const override { return {"sxx", "syy", "sxy"}; }
+
   IntegrationRule common_error_rule(const ParticleSet& p) const override {
     return uniform_gauss_rule_2d(domain(), 20, 20, 4);
   }
   bool errors_on_method_rule() const override { return true; }
   std::vector<int> resolutions(Level) const override { return {5, 9}; }
+
+ private:
+  LinearElastic material_;
 };
 
 }  // namespace

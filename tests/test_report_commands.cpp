@@ -126,5 +126,23 @@ TEST(ReportCommands, ForeignBaselineCtestScriptAndVtkFileAreNotOverwritten) {
   EXPECT_EQ(test::read_file(vtk), "not VTK\n");
 }
 
+TEST(ReportCommands, EveryStaticProblemWritesItsReportWithVtk) {
+  // The VTK writers take each problem's own stress rows (a 2D problem without a material once
+  // handed them the 4-row gradient, and the whole report failed).
+  const Catalogue c;
+  TempDir dir;
+  for (const auto& [problem, nodes] : std::vector<std::pair<std::string, std::vector<int>>>{
+           {"laplace-tanh", {11, 21}}, {"elastic-patch", {3, 5}}, {"cantilever", {3, 5}}}) {
+    CompareOptions o;
+    o.problem = problem;
+    o.methods = {"fem"};
+    o.nodes = nodes;
+    o.report = (dir.path() / problem).string();
+    std::ostringstream out, progress;
+    EXPECT_EQ(command_compare(c, o, out, progress), 0) << problem;
+    EXPECT_TRUE(fs::exists(dir.path() / problem / "index.md")) << problem;
+  }
+}
+
 }  // namespace
 }  // namespace mfv
