@@ -627,43 +627,63 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
             "each row states.\n\n";
     // 2. Contents.
     head += "## Contents\n\n";
-    if (ledger) head += "- [Reproduction ledger](#reproduction-ledger)\n";
-    head += fmt::format("- [Regression verdict per case](#regression-verdict-per-case)\n"
+    if (ledger) head += "- [Reproduction ledger](#reproduction-ledger) (in full: [ledger.md](ledger.md))\n";
+    head += fmt::format("- [Regression](#regression) (every case: [regression.md](regression.md))\n"
                         "- Problems\n{}\n",
                         kProblemsToc);
     head += "Machine-readable: [results.json](results.json) (every case, the regression "
             "verdicts and the ledger; schema in docs/results-schema.md)";
     if (ledger) head += ", [ledger.csv](ledger.csv), [ledger.json](ledger.json)";
     head += ".\n\n";
-    // 3. The ledger.
-    if (ledger)
+    const std::string legend =
+        "Verdicts: **reproduced** (within the row's tolerance), **reproduced under a stated "
+        "reading** (the row states the reading), **partly** (within three times the tolerance, "
+        "or some of the row's values), **not reproduced** (the gap and the best reason), **not "
+        "reached** (the run gave no finite value), **not run** (its case was not selected), "
+        "**not yet built** (the problem or check does not exist yet). Ratio = ours / paper.";
+    // 3. The ledger: short rows here, every column (paper, ours, tolerance, reason, reading)
+    // on ledger.md.
+    std::vector<std::pair<std::string, std::string>> files;
+    if (ledger) {
       head += fmt::format(
-          "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). Verdicts: "
-          "**reproduced** (within the row's tolerance), **reproduced under a stated reading** "
-          "(the reading is in the last column), **partly** (within three times the tolerance, "
-          "or some of the row's values), **not reproduced** (the gap and the best reason), "
-          "**not reached** (the run gave no finite value), **not run** (its case was not "
-          "selected), **not yet built** (the problem or check does not exist yet). Ratio = "
-          "ours / paper.\n\n{}\n",
-          ledger->path.filename().string(), ledger_markdown(entries));
-    // 4. Regression.
-    head += fmt::format("## Regression verdict per case\n\n**{}**\n\nRates are "
-                        "least-squares slopes on the common rule, by norm: L2, H1 seminorm, "
-                        "and the energy norm (2D problems only).\n\n{}\n",
-                        summary, verdicts_md);
-    if (!messages.empty()) {
-      head += "Messages:\n\n";
-      for (const auto& m : messages) head += fmt::format("- {}\n", m);
-      head += "\n";
+          "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). {} The paper's "
+          "and our values, the tolerance, the case that measures ours and the reason for each "
+          "gap are in [ledger.md](ledger.md).\n\n{}\n",
+          ledger->path.filename().string(), legend, ledger_summary_markdown(entries));
+      files.emplace_back(
+          "ledger.md",
+          fmt::format("# Reproduction ledger: {}\n\n[Back to the report](index.md)\n\n{}\n\n"
+                      "**{}**\n\n{}\n",
+                      manifest.name, legend, verdict_counts_line(entries),
+                      ledger_markdown(entries)));
     }
+    // 4. Regression: the status and what failed here, every case on regression.md.
+    const std::string regression_note =
+        "Rates are least-squares slopes on the common rule, by norm: L2, H1 seminorm, and the "
+        "energy norm (2D problems only).";
+    head += fmt::format("## Regression\n\n**{}** Every case with its rates, bands and baseline: "
+                        "[regression.md](regression.md).\n\n",
+                        summary);
+    std::string messages_md;
+    if (!messages.empty()) {
+      messages_md += "Messages:\n\n";
+      for (const auto& m : messages) messages_md += fmt::format("- {}\n", m);
+      messages_md += "\n";
+    }
+    head += messages_md;
+    files.emplace_back("regression.md",
+                       fmt::format("# Regression verdict per case: {}\n\n[Back to the "
+                                   "report](index.md)\n\n**{}**\n\n{}\n\n{}\n{}",
+                                   manifest.name, summary, regression_note, verdicts_md,
+                                   messages_md));
     for (auto& s : sections)
       for (const auto& oc : outcomes)
         if (!oc.error.empty() && oc.mc->problem == s.problem)
           s.failures.push_back(fmt::format("{}: {}", oc.mc->id, oc.error));
-    std::vector<std::pair<std::string, std::string>> files = {
-        {"results.json",
-         verify_results_json(c, run_info("verify", wall, cpu), manifest.name, o.manifest, o.full,
-                             case_json, ledger ? &*ledger : nullptr, entries)}};
+    files.emplace_back("results.json",
+                       verify_results_json(c, run_info("verify", wall, cpu), manifest.name,
+                                           o.manifest, o.full, case_json,
+                                           ledger ? &*ledger : nullptr, entries));
     if (ledger) {
       files.emplace_back("ledger.csv", ledger_csv(entries));
       files.emplace_back("ledger.json", ledger_json_text(*ledger, entries));

@@ -23,6 +23,9 @@ constexpr double kTableRkpm[5][6] = {{3.5100, 3.8315, 4.6672, 5.3217, 5.4837, 5.
                                      {9.6788, 9.7992, 9.9605, 9.9984, 9.9995, 9.9996},
                                      {9.8580, 9.9155, 9.9861, 9.9998, 9.9999, 9.9999}};
 constexpr const char* kPeakName = "peak du/dx at x=3";
+/// Table 1 prints five digits of peaks near 10, where FEM is 2 % short at 241 nodes: a 5 %
+/// tolerance could not tell the readings apart, 1 % can.
+constexpr double kTable1Tolerance = 0.01;
 /// A column matches when every row is within this of the table: 0.25% of the exact peak 10,
 /// about the coarse-row spread of the wide-window columns under the derived reading.
 constexpr double kColumnTolerance = 0.025;
@@ -200,9 +203,11 @@ class LaplaceTanh final : public Problem {
         Params p;
         p.set("kernel", "gaussian");
         p.set("j", kTableJ[c]);
-        out.push_back({"004 II Table 1", kPeak, "rkpm", p, kTableNodes[r], kTableRkpm[r][c], ""});
+        out.push_back({"004 II Table 1", kPeak, "rkpm", p, kTableNodes[r], kTableRkpm[r][c], "",
+                       {}, kTable1Tolerance});
       }
-      out.push_back({"004 II Table 1", kPeak, "fem", {}, kTableNodes[r], fem[r], ""});
+      out.push_back({"004 II Table 1", kPeak, "fem", {}, kTableNodes[r], fem[r], "", {},
+                     kTable1Tolerance});
     }
     return out;
   }

@@ -161,7 +161,7 @@ published = "004 II Table 1"
 quantity = "peak du/dx at x=3"
 nodes = [21, 41]
 paper = [3.3168, 6.0343]
-tolerance = 0.05
+tolerance = 0.01
 
 [[row]]
 id = "ring"
@@ -220,7 +220,7 @@ INSTANTIATE_TEST_SUITE_P(
     Rows, LedgerBadInput,
     ::testing::Values(
         BadRow{"wrong value", replace(kGoodRows, "3.3168", "3.3169"), "publishes no"},
-        BadRow{"wrong tolerance", replace(kGoodRows, "tolerance = 0.05", "tolerance = 0.1"),
+        BadRow{"wrong tolerance", replace(kGoodRows, "tolerance = 0.01", "tolerance = 0.1"),
                "tolerance 0.1 differs"},
         BadRow{"unknown case", replace(kGoodRows, "case = \"fem\"", "case = \"femm\""),
                "names the case 'femm'"},
@@ -302,7 +302,7 @@ TEST(Ledger, VerdictsComeFromTheRun) {
 }
 
 TEST(Ledger, AStatedReadingIsNamedInTheVerdict) {
-  const Fixture f(replace(kGoodRows, "tolerance = 0.05\n", "tolerance = 0.05\nreading = \"r\"\n"));
+  const Fixture f(replace(kGoodRows, "tolerance = 0.01\n", "tolerance = 0.01\nreading = \"r\"\n"));
   const Ledger l = f.load();
   const StudyResult close = fake_study("laplace-tanh", {21, 41}, {3.32, 6.03}, 1.97);
   const auto e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&close, ""}}});
@@ -338,15 +338,15 @@ finding = "laplace-tanh:no-such-finding"
 TEST(Ledger, AOneSidedClaimAcceptsAnythingOnItsSide) {
   const Fixture f(replace(replace(kGoodRows, "nodes = [21, 41]\npaper = [3.3168, 6.0343]",
                                   "nodes = [21]\npaper = [3.3168]"),
-                          "tolerance = 0.05\n", "tolerance = 0.05\ncompare = \"at_least\"\n"));
+                          "tolerance = 0.01\n", "tolerance = 0.01\ncompare = \"at_least\"\n"));
   const Ledger l = f.load();
   auto verdict = [&](double ours) {
     const StudyResult s = fake_study("laplace-tanh", {21, 41}, {ours, 6.0}, 2.0);
     return evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&s, ""}}})[0].verdict;
   };
   EXPECT_EQ(verdict(10.0), kReproduced);  // far above a lower bound still keeps it
-  EXPECT_EQ(verdict(3.2), kReproduced);   // within 5% below
-  EXPECT_EQ(verdict(3.0), kPartly);       // within 15% below
+  EXPECT_EQ(verdict(3.29), kReproduced);  // within 1% below
+  EXPECT_EQ(verdict(3.25), kPartly);      // within 3% below
   EXPECT_EQ(verdict(2.0), kNotReproduced);
   EXPECT_EQ(verdict(NAN), kNotReached);
 }

@@ -213,14 +213,22 @@ finding = "cantilever:kbm-si-rate"
   const std::string text = md.str();
   const auto summary = text.find("## Summary"), contents = text.find("## Contents"),
              ledger = text.find("## Reproduction ledger"),
-             regression = text.find("## Regression verdict per case");
+             regression = text.find("## Regression");
   ASSERT_NE(summary, std::string::npos);
   EXPECT_LT(summary, contents);
   EXPECT_LT(contents, ledger);
   EXPECT_LT(ledger, regression);
   EXPECT_NE(text.find("1 reproduced"), std::string::npos);
   EXPECT_NE(text.find("| t1-fem |"), std::string::npos);
-  EXPECT_NE(text.find("H1-seminorm rate"), std::string::npos);
+  // The full ledger and every case's regression row are one link away.
+  std::stringstream full, regression_page;
+  full << std::ifstream(report / "ledger.md").rdbuf();
+  regression_page << std::ifstream(report / "regression.md").rdbuf();
+  EXPECT_NE(full.str().find("| t1-fem |"), std::string::npos);
+  EXPECT_NE(full.str().find("tolerance"), std::string::npos);
+  EXPECT_NE(regression_page.str().find("H1-seminorm rate"), std::string::npos);
+  EXPECT_NE(text.find("](ledger.md)"), std::string::npos);
+  EXPECT_NE(text.find("](regression.md)"), std::string::npos);
 }
 
 // The validator is not a rubber stamp: a number written as text, a verdict outside the list

@@ -669,6 +669,27 @@ std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
   return md;
 }
 
+std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries) {
+  auto cell = [](const std::string& text) {
+    std::string out;
+    for (char ch : text) {
+      if (ch == '|') out += "\\|";
+      else if (ch == '\n') out += ' ';
+      else out += ch;
+    }
+    return out.empty() ? std::string("–") : out;
+  };
+  std::string md = "| id | source | claim | ours/paper (or −) | verdict |\n|:--|:--|:--|--:|:--|\n";
+  for (const auto& e : entries) {
+    const LedgerRow& row = *e.row;
+    const bool compared = row.kind == LedgerRow::Kind::published ||
+                          row.kind == LedgerRow::Kind::measure;
+    md += fmt::format("| {} | {} | {} | {} | **{}** |\n", cell(row.id), cell(row.source),
+                      cell(row.claim), compared ? cell(comparison_text(e)) : "–", e.verdict);
+  }
+  return md;
+}
+
 std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   std::string out =
       "id,source,claim,measured_by,paper,ours,comparison,tolerance,compare,verdict,gap_reason\n";

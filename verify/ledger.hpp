@@ -121,6 +121,9 @@ std::string verdict_counts_line(const std::vector<LedgerEntry>& entries);
 /// The ledger as a Markdown table (id, source, claim, paper, ours, ratio/difference,
 /// tolerance, verdict, gap/reason).
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries);
+/// The ledger as index.md shows it: one short row per claim (id, source, claim, ours/paper,
+/// verdict); the full table (ledger_markdown) is on its own page.
+std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries);
 /// ledger.csv (RFC 4180 quoting).
 std::string ledger_csv(const std::vector<LedgerEntry>& entries);
 
