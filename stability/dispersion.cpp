@@ -41,7 +41,16 @@ int round_half_width(LatticeKind kind, double w) {
 }
 
 Discretization discretize_patch(const Method& method, const LatticePatch& p) {
-  return method.discretize(p.domain, p.particles, 1);
+  Discretization d = method.discretize(p.domain, p.particles, 1);
+  // The explicit engine's force tables span the particles only; enrichment unknowns (xefg's
+  // crack) have no place in them, nor does a crack in an infinite periodic lattice.
+  if (d.enriched_unknowns > 0)
+    throw InputError(fmt::format("the method's crack enrichment adds {} unknowns, which a "
+                                 "lattice (dispersion, stretch-map) analysis cannot handle; set "
+                                 "crack=none, or use the analysis enriched-bar for the cracked "
+                                 "bar (method: {})",
+                                 d.enriched_unknowns, d.description));
+  return d;
 }
 
 }  // namespace
