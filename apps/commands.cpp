@@ -480,6 +480,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       }
       oc.study = s;
       add_to_sections(sections, std::move(s));
+    } catch (const std::bad_alloc&) {
+      // The case fails with its size named; the other cases still run.
+      oc.error = fmt::format("out of memory at resolutions {} (nodes); lower them in the manifest",
+                             fmt::join(nodes, ", "));
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
+                              oc.error);
     } catch (const SingularError& e) {
       oc.error = e.what();
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,

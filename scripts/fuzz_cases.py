@@ -59,7 +59,7 @@ def make_case(rng, catalogue):
     if problem in ANALYSES:
         cmd = ["analyse", problem, "-m", method, "-n", str(n), "--no-report"]
         if problem == "stretch-map":
-            cmd += ["--problem-params", "grid=2,points=5,angles=0:45"]
+            cmd += ["--problem-params", "grid=2,points=5,angles=0:45,frames=lagrangian"]
         if problem == "enriched-bar":
             cmd += ["--problem-params", "positions=3"]
     elif rng.random() < 0.3:

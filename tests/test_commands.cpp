@@ -181,7 +181,7 @@ TEST(ConvergenceTable, OneRowPerResolutionWithPairwiseAndFittedRates) {
     EXPECT_NE(t.find(h), std::string::npos) << h << "\n" << t;
   EXPECT_EQ(t.find("energy"), std::string::npos) << t;
   // Row 2: 20 nodes, h 0.05, L2 2.5e-3 with rate 2.00, H1 5e-2 with rate 1.00.
-  EXPECT_NE(t.find("| 20 "), std::string::npos) << t;
+  EXPECT_TRUE(std::regex_search(t, std::regex(R"(\|\s+20 \|\s+5\.000e-02 \|)"))) << t;
   EXPECT_TRUE(std::regex_search(t, std::regex(R"(2\.500e-03 \|\s+2\.00 \|)"))) << t;
   EXPECT_TRUE(std::regex_search(t, std::regex(R"(5\.000e-02 \|\s+1\.00 \|)"))) << t;
   // Last row: least-squares rates and the total CPU time.
@@ -208,8 +208,10 @@ TEST_F(Commands, StudyPrintsTheConvergenceTable) {
   std::ostringstream out, progress;
   ASSERT_EQ(command_compare(catalogue_, o, out, progress), 0);
   const std::string t = out.str();
-  for (const char* n : {"| 21 ", "| 41 ", "| 81 ", "least squares", "H1-semi rate [1]"})
+  for (const char* n : {"least squares", "H1-semi rate [1]"})
     EXPECT_NE(t.find(n), std::string::npos) << n << "\n" << t;
+  for (const char* n : {R"(\|\s+21 \|)", R"(\|\s+41 \|)", R"(\|\s+81 \|)"})
+    EXPECT_TRUE(std::regex_search(t, std::regex(n))) << n << "\n" << t;
 }
 
 TEST_F(Commands, CompareRefusesUnknownParametersListingValidOnes) {
