@@ -50,8 +50,13 @@ def parse_list(mfv):
     return out
 
 
-def make_case(rng, catalogue):
-    """(argv, the input pushed to the edge: words one of which the message must contain)."""
+def named(key, value):
+    """What a message about key=value must name: the key, or, when the value's comma splits
+    it into a second item, that item."""
+    return [key] + ([f"'{v}'" for v in value.split(",")[1:]] if "," in value else [])
+
+
+def base_case(rng, catalogue):
     problems = sorted(catalogue["problems"])
     methods = sorted(catalogue["methods"])
     problem, method = rng.choice(problems), rng.choice(methods)
@@ -66,13 +71,17 @@ def make_case(rng, catalogue):
         cmd = ["study", problem, "-m", method, "-n", f"{n},{2 * n - 1}"]
     else:
         cmd = ["run", problem, "-m", method, "-n", str(n)]
+    return cmd, problem, method
+
+
+def mutate_case(rng, catalogue, cmd, problem, method):
     mparams = catalogue["methods"][method]
     pparams = catalogue["problems"][problem]
     what = rng.choice(["method", "method", "problem", "problem", "nodes", "perturb", "duplicate",
                        "unknown", "conflict"])
     if what == "method" and mparams:
         key, value = rng.choice(mparams), rng.choice(EDGES)
-        return cmd + ["-p", f"{key}={value}"], [key]
+        return cmd + ["-p", f"{key}={value}"], named(key, value)
     if what == "problem" and pparams:
         key, value = rng.choice(pparams), rng.choice(EDGES)
         # Replace a fixed problem parameter rather than repeat it.
@@ -80,8 +89,8 @@ def make_case(rng, catalogue):
             i = cmd.index("--problem-params")
             kept = [kv for kv in cmd[i + 1].split(",") if not kv.startswith(key + "=")]
             cmd = cmd[:i] + cmd[i + 2:]
-            return cmd + ["--problem-params", ",".join(kept + [f"{key}={value}"])], [key]
-        return cmd + ["--problem-params", f"{key}={value}"], [key]
+            return cmd + ["--problem-params", ",".join(kept + [f"{key}={value}"])], named(key, value)
+        return cmd + ["--problem-params", f"{key}={value}"], named(key, value)
     if what == "nodes":
         value = rng.choice(NODE_EDGES)
         i = cmd.index("-n")
@@ -101,12 +110,17 @@ def make_case(rng, catalogue):
     return cmd + ["-p", "zzz=1"], ["zzz"]
 
 
-def classify(mfv, argv, words, timeout, cwd):
-    """None when the outcome is fine, else the reason it is a failure."""
+def run(mfv, argv, timeout, cwd):
     try:
-        p = subprocess.run([mfv] + argv, capture_output=True, text=True, timeout=timeout, cwd=cwd,
-                           errors="replace")
+        return subprocess.run([mfv] + argv, capture_output=True, text=True, timeout=timeout,
+                              cwd=cwd, errors="replace")
     except subprocess.TimeoutExpired:
+        return None
+
+
+def classify(p, words, timeout):
+    """None when the outcome is fine, else the reason it is a failure."""
+    if p is None:
         return f"timeout after {timeout} s (hang)"
     text = p.stdout + p.stderr
     if p.returncode < 0:
@@ -127,21 +141,38 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=60)
     ap.add_argument("--corpus", action="store_true",
-                    help="the fixed corpus of the CTest test: 30 cases, seed 12, 20 s each")
+                    help="the fixed corpus of the CTest test: 40 cases, seed 12, 20 s each")
     a = ap.parse_args()
     if a.corpus:
-        a.count, a.seed, a.timeout = 30, 12, 20
+        a.count, a.seed, a.timeout = 40, 12, 20
     a.mfv = os.path.abspath(a.mfv)
     catalogue = parse_list(a.mfv)
     rng = random.Random(a.seed)
-    failures = []
+    failures, codes, base_refused = [], {}, {}
     with tempfile.TemporaryDirectory(prefix="mfv-fuzz-") as cwd:
         for i in range(a.count):
-            argv, words = make_case(rng, catalogue)
-            why = classify(a.mfv, argv, words, a.timeout, cwd)
+            # Mostly pairs that run as they stand, so the mutation is what is tested; a pair
+            # refused as it stands may be refused for that reason whatever was mutated: then
+            # naming the problem or the method names the input.
+            for _ in range(6):
+                base, problem, method = base_case(rng, catalogue)
+                key = tuple(base)
+                if key not in base_refused:
+                    b = run(a.mfv, base, a.timeout, cwd)
+                    base_refused[key] = b is not None and b.returncode == 2
+                if not base_refused[key]:
+                    break
+            argv, words = mutate_case(rng, catalogue, base, problem, method)
+            if base_refused[key]:
+                words = words + [problem, method]
+            p = run(a.mfv, argv, a.timeout, cwd)
+            code = "timeout" if p is None else p.returncode
+            codes[code] = codes.get(code, 0) + 1
+            why = classify(p, words, a.timeout)
             if why:
                 failures.append((argv, why))
                 print(f"FAIL {i}: mfv {' '.join(argv)}\n     {why}", flush=True)
+    print("outcomes: " + ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items(), key=str)))
     print(f"fuzz_cases: {a.count} cases (seed {a.seed}), {len(failures)} failure(s)")
     return 1 if failures else 0
 

@@ -97,10 +97,10 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=60)
     ap.add_argument("--corpus", action="store_true",
-                    help="the fixed corpus of the CTest test: 40 mutations, seed 5, 20 s each")
+                    help="the fixed corpus of the CTest test: 60 mutations, seed 5, 20 s each")
     a = ap.parse_args()
     if a.corpus:
-        a.count, a.seed, a.timeout = 40, 5, 20
+        a.count, a.seed, a.timeout = 60, 5, 20
     mfv = os.path.abspath(a.mfv)
     rng = random.Random(a.seed)
     failures = 0

@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-targets=(test_core test_commands test_manifest test_reports mfv)
+targets=(test_core test_commands test_manifest test_reports test_time_series test_bad_input mfv)
 cmake --preset sanitize >/dev/null
 cmake --build build/sanitize --target "${targets[@]}"
 
