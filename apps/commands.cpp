@@ -67,6 +67,23 @@ std::string convergence_table(const StudyResult& s) {
   // The norms the study measures: transient runs have one main error (L2); static 2D
   // elasticity is judged in the energy norm, 1D problems in the H1 seminorm (their energy).
   const CaseResult& first = s.cases.front();
+  if (!first.analysis.empty()) {
+    // An analysis has no error to converge: its measured values per resolution instead.
+    std::vector<std::string> header{"nodes [1]"};
+    for (const auto& [k, v] : first.headline) header.push_back(k);
+    header.push_back("CPU [s]");
+    MarkdownTable t(header, std::vector<char>(header.size(), 'r'));
+    for (const auto& r : s.cases) {
+      std::vector<std::string> row{std::to_string(r.spec.nodes)};
+      for (const auto& [k, v] : first.headline) {
+        const auto it = r.headline.find(k);
+        row.push_back(it == r.headline.end() ? "–" : fmt::format("{:.6g}", it->second));
+      }
+      row.push_back(fmt::format("{:.3f}", r.cpu.total()));
+      t.add_row(std::move(row));
+    }
+    return fmt::format("{} (analysis: measured values, no error norms)\n\n{}", s.label, t.str());
+  }
   struct Norm {
     std::string name;
     double ErrorNorms::*rel;

@@ -42,7 +42,8 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
 /// ConvergenceTable): the label, then per resolution the particle count, h, each error norm
 /// (relative L2; the energy norm for 2D elasticity, the H1 seminorm in 1D; transient runs only
 /// their main L2 error) with its pairwise rate, and CPU seconds; a last row with the
-/// least-squares rates and the total CPU time. Markdown, units in every header.
+/// least-squares rates and the total CPU time. Markdown, units in every header. An analysis
+/// (no error norms) shows its measured headline values per resolution instead.
 std::string convergence_table(const StudyResult& s);
 
 struct AnalyseOptions {

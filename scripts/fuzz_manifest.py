@@ -103,7 +103,7 @@ def main():
         a.count, a.seed, a.timeout = 60, 5, 20
     mfv = os.path.abspath(a.mfv)
     rng = random.Random(a.seed)
-    failures = 0
+    failures, codes = 0, {}
     with tempfile.TemporaryDirectory(prefix="mfv-fuzz-manifest-") as d:
         manifest, baseline = os.path.join(d, "suite.toml"), os.path.join(d, "baseline.toml")
         with open(manifest, "w") as f:
@@ -120,12 +120,16 @@ def main():
             for path, data in good.items():
                 with open(path, "wb") as f:
                     f.write(mutated if path == target else data)
-            why = classify(run(mfv, ["verify", manifest, "--no-report"], d, a.timeout), a.timeout)
+            p = run(mfv, ["verify", manifest, "--no-report"], d, a.timeout)
+            code = "timeout" if p is None else p.returncode
+            codes[code] = codes.get(code, 0) + 1
+            why = classify(p, a.timeout)
             if why:
                 failures += 1
                 name = os.path.basename(target)
                 print(f"FAIL {i}: mutated {name}: {why}\n----\n"
                       f"{mutated.decode('utf-8', 'replace')}\n----", flush=True)
+    print("outcomes: " + ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items(), key=str)))
     print(f"fuzz_manifest: {a.count} mutations (seed {a.seed}), {failures} failure(s)")
     return 1 if failures else 0
 

@@ -92,6 +92,12 @@ INSTANTIATE_TEST_SUITE_P(
         RunCase{"line_memory", run("laplace-tanh", "fem", 1000000000), {"GB", "available"}},
         // A time step so small that the step count overflows used to become one huge step.
         RunCase{"dt_tiny", run("prestressed-rod", "fem", 11, "", "dt=1e-300"), {"dt", "steps"}},
+        // Found by scripts/fuzz_cases.py: a step past L/c put grk-bar's checkpoints so far
+        // out that the exact solution's reflection sum never ended.
+        RunCase{"grk_bar_dt_huge", run("grk-bar", "fem", 11, "", "dt=1e9"), {"dt", "L/c"}},
+        // Found by scripts/fuzz_cases.py: bands=1e9 wavelet dilations ran for ever.
+        RunCase{"wavelet_bands_huge", run("laplace-tanh", "wavelet", 21, "bands=1e9"),
+                {"bands", "16"}},
         RunCase{"dt_negative", run("prestressed-rod", "fem", 11, "", "dt=-1"), {"dt"}},
         RunCase{"perturb_nan", run("laplace-tanh", "fem", 21, "", "", std::nan("")),
                 {"--perturb"}},

@@ -200,6 +200,18 @@ TEST(ConvergenceTable, ElasticityShowsTheEnergyErrorAndTransientOnlyItsMainError
   EXPECT_NE(d.find("L2 rel [1]"), std::string::npos) << d;
 }
 
+TEST(ConvergenceTable, AnalysesShowTheirMeasuredValuesNotZeroErrors) {
+  StudyResult s = synthetic_study(1, 0);
+  for (auto& r : s.cases) {
+    r.analysis.setup = "lattice";
+    r.headline["critical dt"] = 0.125;
+  }
+  const std::string t = convergence_table(s);
+  EXPECT_NE(t.find("critical dt"), std::string::npos) << t;
+  EXPECT_NE(t.find("0.125"), std::string::npos) << t;
+  EXPECT_EQ(t.find("L2"), std::string::npos) << "an analysis has no error norm:\n" << t;
+}
+
 TEST_F(Commands, StudyPrintsTheConvergenceTable) {
   CompareOptions o;
   o.problem = "laplace-tanh";
