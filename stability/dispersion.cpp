@@ -70,7 +70,8 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   // 1. The reach of the operator: test support of the centre plus trial support of its
   //    points; the Eulerian kernel's tables at those points also move with their own
   //    neighbours (normalization, correction, volumes), one trial radius further.
-  LatticePatch probe = lattice_patch(s.lattice, dx, s.lattice == LatticeKind::line ? 12 : 8);
+  const int probe_half_width = s.lattice == LatticeKind::line ? 12 : 8;
+  LatticePatch probe = lattice_patch(s.lattice, dx, probe_half_width);
   double r_test = 0, r_trial = 0;
   {
     // Supports are the same everywhere on a lattice, so the tables' largest point–particle
@@ -83,11 +84,28 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   if (!(r_test > 0))
     throw InputError("the method's test function of the centre particle samples no point: "
                      "nothing to analyse");
+  // A support that reaches the probe's edge is measured short (the tables end where the
+  // probe does), and the patch built from it would be too small: refuse rather than analyse
+  // a truncated operator. (radius=1e300 used to run for minutes on an all-to-all patch.)
+  if (r_trial >= (probe_half_width - 0.5) * dx)
+    throw InputError(fmt::format("the method's supports reach at least {:.3g} spacings, the edge of "
+                                 "the {}-spacing probe patch they are measured on; use a smaller "
+                                 "support (dmax, radius, j, bands)",
+                                 r_trial / dx, probe_half_width));
   double reach = r_test + r_trial;
   if (s.frame == KernelFrame::eulerian) reach += r_trial;
   // 2. A patch whose centre sees only interior particles: every point within reach of the
   //    centre has its whole (trial) support and Voronoi cells inside.
-  const int needed = round_half_width(s.lattice, (reach + r_trial) / dx + 2);
+  // Checked before the conversion to int: a huge support (radius=1e300) would overflow it,
+  // and a patch past 500 spacings (10^6 particles in 2D) is beyond what the analysis can hold.
+  constexpr double kMaxHalfWidth = 500;
+  const double wanted = (reach + r_trial) / dx + 2;
+  if (!(wanted <= kMaxHalfWidth))
+    throw InputError(fmt::format("the method's supports reach {:.3g} spacings, so the lattice patch "
+                                 "would need a half width of {:.3g} spacings, more than the {} the "
+                                 "analysis builds; use a smaller support (dmax, radius, j)",
+                                 reach / dx, wanted, kMaxHalfWidth));
+  const int needed = round_half_width(s.lattice, wanted);
   if (s.half_width > 0 && s.half_width < needed)
     throw InputError(fmt::format("half_width {} is smaller than the {} spacings the method's "
                                  "supports reach; leave it 0 (automatic) or use {} or more",

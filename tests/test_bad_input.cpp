@@ -98,6 +98,11 @@ INSTANTIATE_TEST_SUITE_P(
         // Found by scripts/fuzz_cases.py: bands=1e9 wavelet dilations ran for ever.
         RunCase{"wavelet_bands_huge", run("laplace-tanh", "wavelet", 21, "bands=1e9"),
                 {"bands", "16"}},
+        // Found by scripts/fuzz_cases.py: a support of 1e300 overflowed the patch width.
+        RunCase{"dispersion_support_huge", run("dispersion", "sph", 5, "radius=1e300"),
+                {"supports reach", "smaller support"}},
+        RunCase{"enriched_bar_positions_huge",
+                run("enriched-bar", "xefg", 5, "", "positions=1000000000"), {"positions"}},
         RunCase{"dt_negative", run("prestressed-rod", "fem", 11, "", "dt=-1"), {"dt"}},
         RunCase{"perturb_nan", run("laplace-tanh", "fem", 21, "", "", std::nan("")),
                 {"--perturb"}},

@@ -32,10 +32,11 @@ std::int64_t checked_particle_count(std::int64_t nx, std::int64_t ny, std::strin
   if (nx < 0 || ny < 0)
     throw InputError(fmt::format("{}: negative particle count {} × {}; give a positive --nodes",
                                  what, nx, ny));
-  // Both factors are below 2^31 here (ints in every caller), so the product fits in 64 bits.
+  // The product is formed only when both factors are below 2^31, so it fits in 64 bits.
   if (nx > limit || ny > limit || nx * ny > limit)
     throw InputError(fmt::format("{}: {} × {} = {} particles exceed the 2^31 - 1 the shape tables "
-                                 "can index; lower --nodes",
+                                 "can index; lower --nodes (or the parameter that sets the "
+                                 "particle count)",
                                  what, nx, ny, static_cast<double>(nx) * static_cast<double>(ny)));
   return nx * ny;
 }
@@ -47,7 +48,8 @@ void check_case_memory(std::int64_t particles, int dim, std::string_view what) {
   if (have == 0 || need <= static_cast<double>(have)) return;
   throw InputError(fmt::format(
       "{}: {} particles need at least {:.3g} GB (about {:.0f} KB per particle in {}D with the "
-      "cheapest method), but only {:.3g} GB of memory is available; lower --nodes",
+      "cheapest method), but only {:.3g} GB of memory is available; lower --nodes (or the "
+      "parameter that sets the particle count)",
       what, particles, need / 1e9, per / 1e3, dim, static_cast<double>(have) / 1e9));
 }
 
