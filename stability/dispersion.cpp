@@ -70,28 +70,32 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   // 1. The reach of the operator: test support of the centre plus trial support of its
   //    points; the Eulerian kernel's tables at those points also move with their own
   //    neighbours (normalization, correction, volumes), one trial radius further.
-  const int probe_half_width = s.lattice == LatticeKind::line ? 12 : 8;
-  LatticePatch probe = lattice_patch(s.lattice, dx, probe_half_width);
+  // The measured radius saturates at the probe's diameter when a support spans the whole
+  // probe (it is then measured short, and the patch built from it would be too small): the
+  // probe grows until the supports fit, up to 96 spacings on a line and 16 in 2D; a support
+  // wider still is refused (radius=1e300 used to run for minutes on an all-to-all patch).
+  const int max_probe = s.lattice == LatticeKind::line ? 96 : 16;
   double r_test = 0, r_trial = 0;
-  {
+  for (int probe_half_width = s.lattice == LatticeKind::line ? 12 : 8;; probe_half_width *= 2) {
     // Supports are the same everywhere on a lattice, so the tables' largest point–particle
     // distances are the centre's. A point's own neighbours (trial or test) set how far its
     // tables move when the particles do.
+    const LatticePatch probe = lattice_patch(s.lattice, dx, probe_half_width);
     const Discretization d = discretize_patch(method, probe);
     r_test = table_radius(d.test_q, d.quadrature.points, d.particles.x);
     r_trial = std::max(table_radius(d.trial_q, d.quadrature.points, d.particles.x), r_test);
+    const double diameter =
+        (probe.particles.x.rowwise().maxCoeff() - probe.particles.x.rowwise().minCoeff()).norm();
+    if (r_trial < 0.95 * diameter) break;
+    if (2 * probe_half_width > max_probe)
+      throw InputError(fmt::format("the method's supports reach at least {:.3g} spacings, across "
+                                   "the whole {}-spacing probe patch they are measured on; use a "
+                                   "smaller support (dmax, radius, j, bands)",
+                                   r_trial / dx, 2 * probe_half_width));
   }
   if (!(r_test > 0))
     throw InputError("the method's test function of the centre particle samples no point: "
                      "nothing to analyse");
-  // A support that reaches the probe's edge is measured short (the tables end where the
-  // probe does), and the patch built from it would be too small: refuse rather than analyse
-  // a truncated operator. (radius=1e300 used to run for minutes on an all-to-all patch.)
-  if (r_trial >= (probe_half_width - 0.5) * dx)
-    throw InputError(fmt::format("the method's supports reach at least {:.3g} spacings, the edge of "
-                                 "the {}-spacing probe patch they are measured on; use a smaller "
-                                 "support (dmax, radius, j, bands)",
-                                 r_trial / dx, probe_half_width));
   double reach = r_test + r_trial;
   if (s.frame == KernelFrame::eulerian) reach += r_trial;
   // 2. A patch whose centre sees only interior particles: every point within reach of the
