@@ -72,9 +72,10 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   const double per_unit_real = std::ceil(unit / dt_target - 1e-9);
   const double steps_real = plan.end_time / unit * per_unit_real;
   if (!(per_unit_real <= kMaxSteps && steps_real <= kMaxSteps))
-    throw InputError(fmt::format("{}: time step dt = {:.3g} gives {:.3g} steps to t = {:.3g}, more "
-                                 "than the {:.0e} a run may take; raise dt (the critical step is "
-                                 "{:.3g}) or set dt=0 to use safety × the critical step",
+    throw InputError(fmt::format("{}: time step dt = {:.3g} gives {:.3g} steps to the end time "
+                                 "t = {:.3g}, more than the {:.0e} a run may take; raise dt (the "
+                                 "critical step is {:.3g}; dt=0 uses safety × it) or shorten the "
+                                 "run (end_time, transits)",
                                  label, dt_target, steps_real, plan.end_time, kMaxSteps,
                                  dt_critical));
   const long per_unit = std::max(1L, static_cast<long>(per_unit_real));

@@ -94,8 +94,9 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
                                    r_trial / dx, 2 * probe_half_width));
   }
   if (!(r_test > 0))
-    throw InputError("the method's test function of the centre particle samples no point: "
-                     "nothing to analyse");
+    throw InputError("the method's test function of the centre particle samples no point, so "
+                     "there is nothing to analyse: its support is too small for the lattice; "
+                     "raise it (dmax, radius, j)");
   double reach = r_test + r_trial;
   if (s.frame == KernelFrame::eulerian) reach += r_trial;
   // 2. A patch whose centre sees only interior particles: every point within reach of the
