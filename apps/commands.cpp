@@ -63,24 +63,87 @@ double wall_seconds() {
   return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 
-/// One line per study: rates on the common rule and the finest errors.
-void print_rate_table(const std::vector<StudyResult>& studies, std::ostream& out) {
-  MarkdownTable t({"method", "nodes", "L2 rel (finest)", "H1 rel (finest)", "L2 rate", "H1 rate",
-                   "CPU s"},
-                  {'l', 'l', 'r', 'r', 'r', 'r', 'r'});
-  for (const auto& s : studies) {
-    std::vector<std::string> nodes;
-    double cpu = 0;
+}  // namespace
+
+std::string convergence_table(const StudyResult& s) {
+  if (s.cases.empty()) return fmt::format("{}: no resolution ran\n", s.label);
+  // The norms the study measures: transient runs have one main error (L2); static 2D
+  // elasticity is judged in the energy norm, 1D problems in the H1 seminorm (their energy).
+  const CaseResult& first = s.cases.front();
+  if (!first.analysis.empty()) {
+    // An analysis has no error to converge: its measured values per resolution instead.
+    std::vector<std::string> header{"nodes [1]"};
+    for (const auto& [k, v] : first.headline) header.push_back(k);
+    header.push_back("CPU [s]");
+    MarkdownTable t(header, std::vector<char>(header.size(), 'r'));
     for (const auto& r : s.cases) {
-      nodes.push_back(std::to_string(r.spec.nodes));
-      cpu += r.cpu.total();
+      std::vector<std::string> row{std::to_string(r.spec.nodes)};
+      for (const auto& [k, v] : first.headline) {
+        const auto it = r.headline.find(k);
+        row.push_back(it == r.headline.end() ? "–" : fmt::format("{:.6g}", it->second));
+      }
+      row.push_back(fmt::format("{:.3f}", r.cpu.total()));
+      t.add_row(std::move(row));
     }
-    const CaseResult& f = s.cases.back();
-    t.add_row({s.label, fmt::format("{}", fmt::join(nodes, ",")), fmt_sci(f.errors.l2_rel),
-               fmt_sci(f.errors.h1_semi_rel), fmt_rate(s.rates.l2), fmt_rate(s.rates.h1_semi),
-               fmt::format("{:.3f}", cpu)});
+    return fmt::format("{} (analysis: measured values, no error norms)\n\n{}", s.label, t.str());
   }
-  out << t.str();
+  struct Norm {
+    std::string name;
+    double ErrorNorms::*rel;
+    const std::vector<double>* pairwise;
+    double fit;
+  };
+  std::vector<Norm> norms{{"L2 rel", &ErrorNorms::l2_rel, &s.rates.l2_pairwise, s.rates.l2}};
+  if (first.transient.steps == 0) {
+    if (first.components > 1)
+      norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.energy_pairwise,
+                       s.rates.energy});
+    else
+      norms.push_back({"H1-semi rel", &ErrorNorms::h1_semi_rel, &s.rates.h1_semi_pairwise,
+                       s.rates.h1_semi});
+  }
+  std::vector<std::string> header{"nodes [1]", "h [length]"};
+  std::vector<char> align{'r', 'r'};
+  for (const auto& n : norms) {
+    header.push_back(n.name + " [1]");
+    header.push_back(n.name.substr(0, n.name.size() - 4) + " rate [1]");
+    align.insert(align.end(), {'r', 'r'});
+  }
+  header.push_back("CPU [s]");
+  align.push_back('r');
+  MarkdownTable t(header, align);
+  double cpu = 0;
+  for (std::size_t i = 0; i < s.cases.size(); ++i) {
+    const CaseResult& r = s.cases[i];
+    std::vector<std::string> row{std::to_string(r.particles), fmt_sci(r.h)};
+    for (const auto& n : norms) {
+      row.push_back(fmt_sci(r.errors.*n.rel));
+      row.push_back(i == 0 || i > n.pairwise->size() ? "–" : fmt_rate((*n.pairwise)[i - 1]));
+    }
+    row.push_back(fmt::format("{:.3f}", r.cpu.total()));
+    cpu += r.cpu.total();
+    t.add_row(std::move(row));
+  }
+  std::vector<std::string> fit{"least squares", ""};
+  for (const auto& n : norms) {
+    fit.push_back("");
+    fit.push_back(fmt_rate(n.fit));
+  }
+  fit.push_back(fmt::format("{:.3f}", cpu));
+  t.add_row(std::move(fit));
+  return fmt::format("{}\n\n{}", s.label, t.str());
+}
+
+namespace {
+
+/// Per study a convergence table (as deal.II's ConvergenceTable prints): one row per
+/// resolution with each error and its pairwise rate, then the least-squares rate.
+void print_rate_table(const std::vector<StudyResult>& studies, std::ostream& out) {
+  for (const auto& s : studies) out << convergence_table(s) << "\n";
+  out << "h: particle spacing in the problem's length unit; errors relative to the exact "
+         "solution's norm on the common rule; rate: slope of ln(error) against ln(h) between "
+         "successive resolutions, least squares: over all (004 II eq 7.3); CPU: setup + "
+         "assembly + solve.\n";
 }
 
 /// Report header lines shared by compare and verify.
@@ -169,6 +232,13 @@ void command_list(const Catalogue& c, std::ostream& out) {
 
 void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
   const double wall0 = wall_seconds(), cpu0 = cpu_seconds();
+  if (o.no_report && !o.report.empty())
+    throw InputError(fmt::format("--report {} and --no-report contradict each other; give one",
+                                 o.report));
+  if (o.nodes < 0)
+    throw InputError(fmt::format("--nodes {} is negative; give a positive resolution, or leave "
+                                 "it out for the problem's own",
+                                 o.nodes));
   CaseSpec spec;
   spec.problem = o.problem;
   spec.method = o.method;
@@ -222,6 +292,11 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
 }
 
 void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
+  if (o.nodes < 1)
+    throw InputError(fmt::format("--nodes {} must be positive", o.nodes));
+  if (!(o.perturbation >= 0 && o.perturbation < 0.5))
+    throw InputError(fmt::format("--perturb {} must be in [0, 0.5) of the particle spacing",
+                                 o.perturbation));
   if (c.problems.create(o.problem, Params::parse(o.problem_params))->analysis()) {
     // Analyses have no field to show errors of: print what `mfv analyse` prints.
     command_analyse(c, AnalyseOptions{o.problem, o.method, o.method_params, o.problem_params,
@@ -242,7 +317,14 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   spec.problem_params = Params::parse(o.problem_params);
   spec.nodes = o.nodes;
   spec.perturbation = o.perturbation;
-  const CaseResult r = run_case(c, spec);
+  CaseResult r;
+  try {
+    r = run_case(c, spec);
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(fmt::format("out of memory running {} with {} at --nodes {}; lower "
+                                         "--nodes or free memory",
+                                         spec.problem, spec.method, spec.nodes));
+  }
   out << fmt::format("problem   {} {}\n", spec.problem, spec.problem_params.to_string());
   out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
   out << fmt::format("nodes     {}  (dx = {:.6g}, {} quadrature points)\n", r.particles, r.h,
@@ -331,10 +413,20 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
   base.problem_params = Params::parse(o.problem_params);
   base.perturbation = o.perturbation;
   const auto problem = c.problems.create(base.problem, base.problem_params);
+  if (o.full && !o.nodes.empty())
+    throw InputError("--full and --nodes both choose the resolutions; give one of them");
+  if (!(o.perturbation >= 0 && o.perturbation < 0.5))
+    throw InputError(fmt::format("--perturb {} must be in [0, 0.5) of the particle spacing",
+                                 o.perturbation));
   std::vector<int> nodes = o.nodes;
   if (nodes.empty()) nodes = problem->resolutions(o.full ? Level::full : Level::standard);
   for (int n : nodes)
     if (n < 2) throw InputError(fmt::format("--nodes {} is too few; give at least 2", n));
+  // Resolutions run coarse to fine whatever order they were given in (the rates and the
+  // table read them so); a repeated one would give a rate of 0/0 and is refused.
+  std::sort(nodes.begin(), nodes.end());
+  if (const auto dup = std::adjacent_find(nodes.begin(), nodes.end()); dup != nodes.end())
+    throw InputError(fmt::format("--nodes {} is given twice; give each resolution once", *dup));
 
   // Check every name and parameter before the first (possibly long) study runs.
   std::vector<CaseSpec> specs;
@@ -356,12 +448,20 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
   std::vector<std::string> failures;
   for (std::size_t k = 0; k < specs.size(); ++k) {
     const std::string label = study_label(specs[k]);
+    int running = 0;  // the resolution in progress, for an out-of-memory message
+    const StudyProgress print =
+        progress_printer(progress, fmt::format("[{}/{}] {}:", k + 1, specs.size(), label));
     try {
-      StudyResult s = run_study(
-          c, specs[k], nodes,
-          progress_printer(progress, fmt::format("[{}/{}] {}:", k + 1, specs.size(), label)));
+      StudyResult s = run_study(c, specs[k], nodes, [&](int i, int n, int m) {
+        running = m;
+        print(i, n, m);
+      });
       done.push_back(s);
       add_to_sections(sections, std::move(s));
+    } catch (const std::bad_alloc&) {
+      throw std::runtime_error(fmt::format("out of memory in the study of {} on {} at {} nodes; "
+                                           "lower --nodes or free memory",
+                                           label, base.problem, running));
     } catch (const SingularError& e) {
       failures.push_back(fmt::format("{}: {}", label, e.what()));
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, specs.size(), label,
@@ -494,6 +594,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       }
       oc.study = s;
       add_to_sections(sections, std::move(s));
+    } catch (const std::bad_alloc&) {
+      // The case fails with its size named; the other cases still run.
+      oc.error = fmt::format("out of memory at resolutions {} (nodes); lower them in the manifest",
+                             fmt::join(nodes, ", "));
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
+                              oc.error);
     } catch (const SingularError& e) {
       oc.error = e.what();
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "verify/case.hpp"
 #include "verify/catalogue.hpp"
 
 namespace mfv {
@@ -37,6 +38,14 @@ struct CompareOptions {
 /// Returns the exit code (0, or 3 if a study could not run).
 int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& out,
                     std::ostream& progress);
+
+/// The convergence table `mfv study` and `mfv compare` print per method (as deal.II's
+/// ConvergenceTable): the label, then per resolution the particle count, h, each error norm
+/// (relative L2; the energy norm for 2D elasticity, the H1 seminorm in 1D; transient runs only
+/// their main L2 error) with its pairwise rate, and CPU seconds; a last row with the
+/// least-squares rates and the total CPU time. Markdown, units in every header. An analysis
+/// (no error norms) shows its measured headline values per resolution instead.
+std::string convergence_table(const StudyResult& s);
 
 struct AnalyseOptions {
   std::string problem, method, method_params, problem_params;

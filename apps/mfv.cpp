@@ -1,6 +1,9 @@
 /// mfv: meshfree verification suite command line (CLI11).
 #include <algorithm>
+#include <cmath>
+#include <new>
 #include <iostream>
+#include <limits>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -8,6 +11,31 @@
 #include "apps/commands.hpp"
 #include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
+
+namespace {
+
+/// A finite number in [lo, hi) (hi_open) or [lo, hi]: CLI::Range lets NaN through, since
+/// every comparison with NaN is false.
+CLI::Validator finite_in(double lo, double hi, bool hi_open, const std::string& meaning) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0) return fmt::format("'{}' is not a number", text);
+        if (!std::isfinite(v) || v < lo || (hi_open ? v >= hi : v > hi))
+          return fmt::format("{} must be {} in [{}, {}{}, got {}", meaning,
+                             "a finite number", lo, hi, hi_open ? ")" : "]", text);
+        return {};
+      },
+      fmt::format("in [{}, {}{}", lo, hi, hi_open ? ")" : "]"));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // First, before any thread exists: an interrupted run removes its staging directory.
@@ -24,8 +52,11 @@ int main(int argc, char** argv) {
   cmd_run->add_option("--method,-m", run.method, "method name")->required();
   cmd_run->add_option("--params,-p", run.method_params, "method parameters key=value,...");
   cmd_run->add_option("--problem-params", run.problem_params, "problem parameters key=value,...");
-  cmd_run->add_option("--nodes,-n", run.nodes, "number of particles")->required();
-  cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx");
+  cmd_run->add_option("--nodes,-n", run.nodes, "number of particles")
+      ->required()
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx")
+      ->check(finite_in(0, 0.5, true, "--perturb"));
   cmd_run->add_option("--vtk", run.vtk, "also write the particles and fields to this .vtp file");
 
   // `study` is `compare` with one method; both share the options.
@@ -34,11 +65,15 @@ int main(int argc, char** argv) {
   auto add_study_options = [&](CLI::App* c) {
     c->add_option("problem", cmp.problem, "problem name (see mfv list)")->required();
     c->add_option("--problem-params", cmp.problem_params, "problem parameters key=value,...");
-    c->add_option("--nodes,-n", cmp.nodes,
-                  "resolutions (default: the problem's standard refinement study)")
-        ->delimiter(',');
-    c->add_flag("--full", cmp.full, "the paper-size resolutions");
-    c->add_option("--perturb", cmp.perturbation, "random particle offsets, fraction of dx");
+    auto* nodes = c->add_option("--nodes,-n", cmp.nodes,
+                                "resolutions, repeatable or comma-separated; run coarse to fine "
+                                "in sorted order, each at most once (default: the problem's "
+                                "standard refinement study)")
+                      ->delimiter(',')
+                      ->check(CLI::Range(2, std::numeric_limits<int>::max()));
+    c->add_flag("--full", cmp.full, "the paper-size resolutions")->excludes(nodes);
+    c->add_option("--perturb", cmp.perturbation, "random particle offsets, fraction of dx")
+        ->check(finite_in(0, 0.5, true, "--perturb"));
     c->add_option("--report,-r", cmp.report, "write a report into this directory");
     c->add_flag("!--no-vtk", cmp.vtk, "leave VTK files out of the report");
     c->add_flag("--force", cmp.force,
@@ -68,9 +103,11 @@ int main(int argc, char** argv) {
   cmd_analyse->add_option("--method,-m", ana.method, "method name")->required();
   cmd_analyse->add_option("--params,-p", ana.method_params, "method parameters key=value,...");
   cmd_analyse->add_option("--problem-params", ana.problem_params, "problem parameters key=value,...");
-  cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)");
-  cmd_analyse->add_option("--report,-r", ana.report, "report directory (default reports/<problem>-<method>)");
-  cmd_analyse->add_flag("--no-report", ana.no_report, "print only");
+  cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)")
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  auto* ana_report = cmd_analyse->add_option("--report,-r", ana.report,
+                                             "report directory (default reports/<problem>-<method>)");
+  cmd_analyse->add_flag("--no-report", ana.no_report, "print only")->excludes(ana_report);
   cmd_analyse->add_flag("--force", ana.force, "replace an earlier mfv report even if files were "
                                               "added to it");
 
@@ -78,7 +115,6 @@ int main(int argc, char** argv) {
   mfv::AnalyseOptions dis;
   std::string lattice = "line", frame = "lagrangian", angles, mass = "lumped", stress;
   double sigma = 0;
-  int points = 0;
   bool map = false;
   auto* cmd_dispersion = app.add_subcommand(
       "dispersion", "von Neumann dispersion of any method on a lattice: omega(kappa), verdict, plots");
@@ -86,14 +122,18 @@ int main(int argc, char** argv) {
   cmd_dispersion->add_option("--params,-p", dis.method_params, "method parameters key=value,...");
   cmd_dispersion->add_option("--lattice", lattice, "line, rectangular or hexagonal");
   cmd_dispersion->add_option("--frame", frame, "lagrangian or eulerian kernel");
-  cmd_dispersion->add_option("--sigma", sigma, "prestress sigma/E (1D) or sigma/mu (2D)");
+  cmd_dispersion->add_option("--sigma", sigma, "prestress sigma/E (1D) or sigma/mu (2D)")
+      ->check(finite_in(-1e6, 1e6, false, "--sigma"));
   cmd_dispersion->add_option("--stress", stress, "2D prestress: biaxial or uniaxial");
   cmd_dispersion->add_option("--angles", angles, "2D wave directions in degrees, e.g. 0,30,45");
-  cmd_dispersion->add_option("--points", points, "wave numbers per direction");
+  cmd_dispersion->add_option("--points", dis.nodes,
+                             "wave numbers per direction, from 0 to the zone boundary (at least "
+                             "3; default: the analysis's own)")
+      ->check(CLI::Range(3, 1000000));
   cmd_dispersion->add_option("--mass", mass, "lumped or consistent");
   cmd_dispersion->add_flag("--map", map, "also the (sigma, kappa) stable domain");
-  cmd_dispersion->add_option("--report,-r", dis.report, "report directory");
-  cmd_dispersion->add_flag("--no-report", dis.no_report, "print only");
+  auto* dis_report = cmd_dispersion->add_option("--report,-r", dis.report, "report directory");
+  cmd_dispersion->add_flag("--no-report", dis.no_report, "print only")->excludes(dis_report);
   cmd_dispersion->add_flag("--force", dis.force, "replace an earlier mfv report even if files "
                                                  "were added to it");
 
@@ -106,8 +146,9 @@ int main(int argc, char** argv) {
   cmd_verify->add_option("--case", ver.cases, "run only this case id (repeatable)");
   cmd_verify->add_flag("--update-baseline", ver.update_baseline,
                        "record this run's numbers as the baseline");
-  cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)");
-  cmd_verify->add_flag("--no-report", ver.no_report, "write no report");
+  auto* ver_report =
+      cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)");
+  cmd_verify->add_flag("--no-report", ver.no_report, "write no report")->excludes(ver_report);
   cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report");
   cmd_verify->add_flag("--force", ver.force, "replace an earlier mfv report even if files were "
                                              "added to it");
@@ -120,7 +161,30 @@ int main(int argc, char** argv) {
   cmd_ctest->add_option("--mfv", ctest_mfv, "path of the mfv executable the tests run")
       ->required();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Every other parse error is bad input: exit 2 as documented (CLI11's own codes are
+    // 101-120). An unexpected first word is an unknown subcommand: name it.
+    std::vector<std::string> names;
+    for (const auto* sub : app.get_subcommands([](CLI::App*) { return true; }))
+      names.push_back(sub->get_name());
+    if (argc > 1 && argv[1][0] != '-' &&
+        std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      std::cerr << fmt::format("mfv: input error: unknown subcommand '{}'; subcommands: {} (see "
+                               "mfv --help)\n",
+                               argv[1], fmt::join(names, ", "));
+      return 2;
+    }
+    app.exit(e);
+    return 2;
+  }
   try {
     const mfv::Catalogue catalogue;
     if (*list) mfv::command_list(catalogue, std::cout);
@@ -134,7 +198,6 @@ int main(int argc, char** argv) {
                                        sigma, mass);
       if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
       if (!stress.empty()) dis.problem_params += ",stress=" + stress;
-      if (points > 0) dis.problem_params += fmt::format(",points={}", points);
       if (map) dis.problem_params += ",map=sigma-kappa";
       mfv::command_analyse(catalogue, dis, std::cout);
     }
@@ -148,6 +211,9 @@ int main(int argc, char** argv) {
   } catch (const mfv::InputError& e) {
     std::cerr << "mfv: input error: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "mfv: error: out of memory; lower --nodes or free memory\n";
+    return 1;
   } catch (const mfv::SingularError& e) {
     std::cerr << "mfv: singular: " << e.what() << "\n";
     return 3;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/resources.hpp"
 
 namespace mfv {
 
@@ -45,10 +46,11 @@ ParticleSet uniform_line(const Domain& domain, int n, double perturbation, std::
   if (domain.dim != 1) throw InputError("uniform_line needs a 1D domain");
   if (n < 2)
     throw InputError(fmt::format("--nodes must be at least 2 on a line, got {}", n));
-  if (perturbation < 0 || perturbation >= 0.5)
+  if (!(perturbation >= 0 && perturbation < 0.5))
     throw InputError(fmt::format(
         "perturbation must be in [0, 0.5) of the spacing so particles keep their order, got {}",
         perturbation));
+  check_case_memory(n, 1, fmt::format("a line of {} particles", n));
   const double a = domain.lower[0], b = domain.upper[0];
   const double dx = (b - a) / (n - 1);
   Eigen::VectorXd x(n);

@@ -61,7 +61,8 @@ ParticleSet uniform_line(const Domain& domain, int n, double perturbation = 0.0,
 /// reproducible); boundary particles move only along their side and corners stay. Volumes:
 /// exact lattice cells when unperturbed (001 §6: half on sides, a quarter at corners),
 /// otherwise the Voronoi diagram clipped to the rectangle (voronoi_areas).
-ParticleSet rectangle_lattice(const Domain& domain, int nx, int ny, Placement placement,
+ParticleSet rectangle_lattice(const Domain& domain, std::int64_t nx_in, std::int64_t ny_in,
+                              Placement placement,
                               double perturbation = 0.0, std::uint64_t seed = 1);
 
 /// Areas of the Voronoi cells of 2D points, clipped to the rectangle `domain` (voro++); the

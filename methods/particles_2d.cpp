@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/resources.hpp"
 #include "methods/particles.hpp"
 
 namespace mfv {
@@ -54,19 +55,24 @@ double inside_blocks(double x, double side, double sp, int blocks) {
 
 }  // namespace
 
-ParticleSet rectangle_lattice(const Domain& domain, int nx, int ny, Placement placement,
-                              double perturbation, std::uint64_t seed) {
+ParticleSet rectangle_lattice(const Domain& domain, std::int64_t nx_in, std::int64_t ny_in,
+                              Placement placement, double perturbation, std::uint64_t seed) {
   if (domain.dim != 2)
     throw InputError(fmt::format(
         "rectangle_lattice needs a 2D rectangle domain, got a {}D one; build it with "
         "Domain::rectangle",
         domain.dim));
   const int min_n = placement == Placement::boundary ? 2 : 1;
-  if (nx < min_n || ny < min_n)
+  if (nx_in < min_n || ny_in < min_n)
     throw InputError(fmt::format(
         "a {} lattice needs at least {} particles per direction, got nx = {}, ny = {}; raise "
         "--nodes",
-        placement == Placement::boundary ? "boundary-placement" : "inset", min_n, nx, ny));
+        placement == Placement::boundary ? "boundary-placement" : "inset", min_n, nx_in, ny_in));
+  // Counted in 64 bits and checked before anything is allocated: past 46,340 per side the
+  // int product overflows, and long before that the case outgrows the machine.
+  const std::int64_t count = checked_particle_count(nx_in, ny_in, "2D lattice");
+  check_case_memory(count, 2, fmt::format("a {} × {} lattice", nx_in, ny_in));
+  const int nx = static_cast<int>(nx_in), ny = static_cast<int>(ny_in);
   if (!(perturbation >= 0 && perturbation < 0.5))
     throw InputError(fmt::format(
         "perturbation must be in [0, 0.5) of the spacing so particles keep their lattice "

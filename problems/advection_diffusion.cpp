@@ -5,6 +5,8 @@
 /// advection case, solved with the least-squares-stabilized weak form (6.3).
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -80,6 +82,15 @@ class AdvectionDiffusion final : public Problem {
     ScalarForm1D form;
     form.advection = a_;
     if (a_ != 0) {
+      // The stabilized form needs u'' of the trial and test functions (R(v) = -v'' + a v');
+      // collocation methods and Shepard tests do not tabulate them.
+      for (const ShapeTable* t : {&d.trial_q, &d.test_q})
+        if (t->order < 2 || t->hess.size() != static_cast<std::size_t>(t->entries()) * t->nhess())
+          throw InputError(fmt::format(
+              "advection-diffusion with a = {:g} uses the stabilized weak form (004 I eq 6.3), "
+              "which needs second derivatives of the trial and test functions; the method ({}) "
+              "does not provide them. Use a Galerkin method (fem, efg, rkpm, wavelet) or a=0",
+              a_, d.description));
       // Optimal 1D SUPG/GLS parameter τ = Δx/(2a) (coth Pe - 1/Pe), Pe = a Δx / 2 (6.2c).
       const double h = d.particles.spacing, pe = a_ * h / 2;
       form.tau = tau_scale_ * h / (2 * a_) * (1 / std::tanh(pe) - 1 / pe);

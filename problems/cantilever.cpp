@@ -185,7 +185,8 @@ class Cantilever final : public Problem {
       throw InputError(fmt::format("cantilever: nodes counts particles across the depth and "
                                    "must be at least 2, got {}",
                                    ny));
-    const int nx = placement_ == Placement::boundary ? 4 * (ny - 1) + 1 : 4 * ny;
+    const std::int64_t nx = placement_ == Placement::boundary ? 4 * (std::int64_t{ny} - 1) + 1
+                                                               : 4 * std::int64_t{ny};
     return rectangle_lattice(domain(), nx, ny, placement_, perturbation);
   }
 

@@ -107,9 +107,9 @@ std::string degrees(double a) { return fmt::format("{:g}°", a); }
 void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
   const double pi = std::numbers::pi;
   const int points = c.spec.nodes;
-  if (points < 3)
+  if (points < 3 || points > 100000)
     throw InputError(fmt::format("dispersion samples {} wave numbers per direction (the case's "
-                                 "nodes); use at least 3, e.g. 101",
+                                 "nodes, or --points); use 3 to 100000, e.g. 101",
                                  points));
   const double t0 = cpu_seconds();
   const BlochRow row = bloch_row(c.method, setup(c.catalogue, sigma_));
@@ -382,7 +382,7 @@ void register_dispersion(ProblemRegistry& r) {
       ParamSpec::choice("map", "none", {"none", "sigma-kappa"},
                         "also compute the stable domain in the (sigma, kappa) plane (000 Figs 5-6)"),
       ParamSpec::positive("map_limit", 3.0, "the map searches sigma in [-limit, limit]"),
-      ParamSpec::count("half_width", 0, 0, "patch half width in spacings; 0: from the supports"),
+      capped(ParamSpec::count("half_width", 0, 0, "patch half width in spacings; 0: from the supports (at most 500)"), 500),
   };
   r.add("dispersion",
         "von Neumann dispersion analysis of any method on an infinite line, rectangular or "

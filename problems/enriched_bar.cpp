@@ -598,13 +598,17 @@ class EnrichedBar final : public Problem {
 void register_enriched_bar(ProblemRegistry& r) {
   ParamSchema s{
       ParamSpec::count("dim", 1, 1, "1: the 003 bar; 2: the square patch (003 §4.3.1)"),
-      ParamSpec::count("particles", 10, 4, "particles along the bar (per side of the patch)"),
+      capped(ParamSpec::count("particles", 10, 4, "particles along the bar (per side of the patch; at most 2000: dense eigenproblems)"), 2000),
       ParamSpec::number("interval", -1,
                         "node interval the crack sweeps (0 .. particles-2); -1: the middle one"),
-      ParamSpec::count("positions", 0, 0,
-                       "crack positions per sweep, node to node inclusive; 0: 21 (1D), 6 (2D)"),
-      ParamSpec::count("dmax_count", 0, 0,
-                       "DMAX values swept: dmax, dmax + dmax_step, ...; 0: 3 (1D), 1 (2D)"),
+      capped(ParamSpec::count("positions", 0, 0,
+                              "crack positions per sweep, node to node inclusive; 0: 21 (1D), "
+                              "6 (2D); at most 10000"),
+             10000),
+      capped(ParamSpec::count("dmax_count", 0, 0,
+                              "DMAX values swept: dmax, dmax + dmax_step, ...; 0: 3 (1D), 1 (2D); "
+                              "at most 100"),
+             100),
       ParamSpec::positive("dmax_step", 0.5, "step between the swept DMAX values"),
       ParamSpec::positive("E", 200e9, "Young's modulus (Pa)"),
       ParamSpec::positive("rho", 7850, "density (kg/m3)"),

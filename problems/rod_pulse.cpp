@@ -313,7 +313,8 @@ void register_rod_pulse(ProblemRegistry& r) {
       ParamSpec::choice("mass", "volume", {"volume", "uniform"},
                         "lumped masses rho V_I (half on free edges, a quarter at corners, 001 "
                         "§6) or all equal"),
-      ParamSpec::count("transits", 2, 1, "run to this many multiples of L/c"),
+      capped(ParamSpec::count("transits", 2, 1, "run to this many multiples of L/c (at most 1000)"),
+             1000),
   };
   for (auto& spec : dynamics_schema()) s.push_back(std::move(spec));
   r.add("rod-pulse",

@@ -62,7 +62,23 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
                    CaseResult& r) {
   if (!(plan.end_time > 0)) throw InputError("a transient run needs a positive end time");
   const double unit = plan.checkpoints.empty() ? plan.end_time : plan.checkpoints.front();
-  const long per_unit = std::max(1L, static_cast<long>(std::ceil(unit / dt_target - 1e-9)));
+  // The step counts are checked as floating-point numbers before they become integers: a
+  // tiny dt would overflow the conversion (undefined) and silently run one huge step.
+  if (!(dt_target > 0) || !std::isfinite(dt_target))
+    throw InputError(fmt::format("{}: time step dt = {} (critical step {}) must be positive and "
+                                 "finite; set dt > 0 or safety > 0",
+                                 label, dt_target, dt_critical));
+  constexpr double kMaxSteps = 1e9;
+  const double per_unit_real = std::ceil(unit / dt_target - 1e-9);
+  const double steps_real = plan.end_time / unit * per_unit_real;
+  if (!(per_unit_real <= kMaxSteps && steps_real <= kMaxSteps))
+    throw InputError(fmt::format("{}: time step dt = {:.3g} gives {:.3g} steps to the end time "
+                                 "t = {:.3g}, more than the {:.0e} a run may take; raise dt (the "
+                                 "critical step is {:.3g}; dt=0 uses safety × it) or shorten the "
+                                 "run (end_time, transits)",
+                                 label, dt_target, steps_real, plan.end_time, kMaxSteps,
+                                 dt_critical));
+  const long per_unit = std::max(1L, static_cast<long>(per_unit_real));
   const double dt = unit / per_unit;
   const long steps = std::max(1L, std::lround(plan.end_time / dt));
   std::vector<long> check_steps;

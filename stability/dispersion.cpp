@@ -41,7 +41,16 @@ int round_half_width(LatticeKind kind, double w) {
 }
 
 Discretization discretize_patch(const Method& method, const LatticePatch& p) {
-  return method.discretize(p.domain, p.particles, 1);
+  Discretization d = method.discretize(p.domain, p.particles, 1);
+  // The explicit engine's force tables span the particles only; enrichment unknowns (xefg's
+  // crack) have no place in them, nor does a crack in an infinite periodic lattice.
+  if (d.enriched_unknowns > 0)
+    throw InputError(fmt::format("the method's crack enrichment adds {} unknowns, which a "
+                                 "lattice (dispersion, stretch-map) analysis cannot handle; set "
+                                 "crack=none, or use the analysis enriched-bar for the cracked "
+                                 "bar (method: {})",
+                                 d.enriched_unknowns, d.description));
+  return d;
 }
 
 }  // namespace
@@ -61,24 +70,47 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   // 1. The reach of the operator: test support of the centre plus trial support of its
   //    points; the Eulerian kernel's tables at those points also move with their own
   //    neighbours (normalization, correction, volumes), one trial radius further.
-  LatticePatch probe = lattice_patch(s.lattice, dx, s.lattice == LatticeKind::line ? 12 : 8);
+  // The measured radius saturates at the probe's diameter when a support spans the whole
+  // probe (it is then measured short, and the patch built from it would be too small): the
+  // probe grows until the supports fit, up to 96 spacings on a line and 16 in 2D; a support
+  // wider still is refused (radius=1e300 used to run for minutes on an all-to-all patch).
+  const int max_probe = s.lattice == LatticeKind::line ? 96 : 16;
   double r_test = 0, r_trial = 0;
-  {
+  for (int probe_half_width = s.lattice == LatticeKind::line ? 12 : 8;; probe_half_width *= 2) {
     // Supports are the same everywhere on a lattice, so the tables' largest point–particle
     // distances are the centre's. A point's own neighbours (trial or test) set how far its
     // tables move when the particles do.
+    const LatticePatch probe = lattice_patch(s.lattice, dx, probe_half_width);
     const Discretization d = discretize_patch(method, probe);
     r_test = table_radius(d.test_q, d.quadrature.points, d.particles.x);
     r_trial = std::max(table_radius(d.trial_q, d.quadrature.points, d.particles.x), r_test);
+    const double diameter =
+        (probe.particles.x.rowwise().maxCoeff() - probe.particles.x.rowwise().minCoeff()).norm();
+    if (r_trial < 0.95 * diameter) break;
+    if (2 * probe_half_width > max_probe)
+      throw InputError(fmt::format("the method's supports reach at least {:.3g} spacings, across "
+                                   "the whole {}-spacing probe patch they are measured on; use a "
+                                   "smaller support (dmax, radius, j, bands)",
+                                   r_trial / dx, 2 * probe_half_width));
   }
   if (!(r_test > 0))
-    throw InputError("the method's test function of the centre particle samples no point: "
-                     "nothing to analyse");
+    throw InputError("the method's test function of the centre particle samples no point, so "
+                     "there is nothing to analyse: its support is too small for the lattice; "
+                     "raise it (dmax, radius, j)");
   double reach = r_test + r_trial;
   if (s.frame == KernelFrame::eulerian) reach += r_trial;
   // 2. A patch whose centre sees only interior particles: every point within reach of the
   //    centre has its whole (trial) support and Voronoi cells inside.
-  const int needed = round_half_width(s.lattice, (reach + r_trial) / dx + 2);
+  // Checked before the conversion to int: a huge support (radius=1e300) would overflow it,
+  // and a patch past 500 spacings (10^6 particles in 2D) is beyond what the analysis can hold.
+  constexpr double kMaxHalfWidth = 500;
+  const double wanted = (reach + r_trial) / dx + 2;
+  if (!(wanted <= kMaxHalfWidth))
+    throw InputError(fmt::format("the method's supports reach {:.3g} spacings, so the lattice patch "
+                                 "would need a half width of {:.3g} spacings, more than the {} the "
+                                 "analysis builds; use a smaller support (dmax, radius, j)",
+                                 reach / dx, wanted, kMaxHalfWidth));
+  const int needed = round_half_width(s.lattice, wanted);
   if (s.half_width > 0 && s.half_width < needed)
     throw InputError(fmt::format("half_width {} is smaller than the {} spacings the method's "
                                  "supports reach; leave it 0 (automatic) or use {} or more",

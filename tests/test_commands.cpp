@@ -2,8 +2,10 @@
 /// when a band is tightened or a number is worse than the baseline; reports are replaced only
 /// by complete ones; `mfv compare` and `mfv manifest-ctest` write what they promise.
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -12,6 +14,7 @@
 #include "apps/commands.hpp"
 #include "methods/core/errors.hpp"
 #include "verify/baseline.hpp"
+#include "verify/norms.hpp"
 
 namespace mfv {
 namespace {
@@ -150,6 +153,80 @@ TEST_F(Commands, CompareWritesOneReportWithEveryMethod) {
   text << std::ifstream(dir_ / "cmp" / "index.md").rdbuf();
   EXPECT_NE(text.str().find("| fem "), std::string::npos);
   EXPECT_NE(text.str().find("| rkpm j=1,kernel=gaussian "), std::string::npos);
+}
+
+/// A study assembled by hand: the table must print what it is given, rates included.
+StudyResult synthetic_study(int components, long steps) {
+  StudyResult s;
+  s.label = "m";
+  const double h[] = {0.1, 0.05, 0.025};
+  for (int i = 0; i < 3; ++i) {
+    CaseResult r;
+    r.h = h[i];
+    r.particles = 10 << i;
+    r.components = components;
+    r.transient.steps = steps;
+    r.errors.l2 = r.errors.l2_rel = std::pow(h[i], 2);          // rate 2
+    r.errors.h1_semi = r.errors.h1_semi_rel = std::pow(h[i], 1);  // rate 1
+    r.errors.energy = r.errors.energy_rel = std::pow(h[i], 1.5);  // rate 1.5
+    r.cpu.setup = 0.25;
+    s.cases.push_back(r);
+  }
+  s.rates = study_rates(s.cases, false);
+  return s;
+}
+
+TEST(ConvergenceTable, OneRowPerResolutionWithPairwiseAndFittedRates) {
+  const std::string t = convergence_table(synthetic_study(1, 0));
+  // Units in every header; 1D: the H1 seminorm, not an energy column.
+  for (const char* h : {"nodes [1]", "h [length]", "L2 rel [1]", "L2 rate [1]", "H1-semi rel [1]",
+                        "H1-semi rate [1]", "CPU [s]"})
+    EXPECT_NE(t.find(h), std::string::npos) << h << "\n" << t;
+  EXPECT_EQ(t.find("energy"), std::string::npos) << t;
+  // Row 2: 20 nodes, h 0.05, L2 2.5e-3 with rate 2.00, H1 5e-2 with rate 1.00.
+  EXPECT_TRUE(std::regex_search(t, std::regex(R"(\|\s+20 \|\s+5\.000e-02 \|)"))) << t;
+  EXPECT_TRUE(std::regex_search(t, std::regex(R"(2\.500e-03 \|\s+2\.00 \|)"))) << t;
+  EXPECT_TRUE(std::regex_search(t, std::regex(R"(5\.000e-02 \|\s+1\.00 \|)"))) << t;
+  // Last row: least-squares rates and the total CPU time.
+  EXPECT_NE(t.find("least squares"), std::string::npos) << t;
+  EXPECT_NE(t.find("0.750"), std::string::npos) << t;
+}
+
+TEST(ConvergenceTable, ElasticityShowsTheEnergyErrorAndTransientOnlyItsMainError) {
+  const std::string e = convergence_table(synthetic_study(2, 0));
+  EXPECT_NE(e.find("energy rel [1]"), std::string::npos) << e;
+  EXPECT_NE(e.find("1.50"), std::string::npos) << e;
+  EXPECT_EQ(e.find("H1"), std::string::npos) << "the energy error may not be labelled H1:\n" << e;
+  const std::string d = convergence_table(synthetic_study(2, 100));
+  EXPECT_EQ(d.find("energy"), std::string::npos) << d;
+  EXPECT_EQ(d.find("H1"), std::string::npos) << d;
+  EXPECT_NE(d.find("L2 rel [1]"), std::string::npos) << d;
+}
+
+TEST(ConvergenceTable, AnalysesShowTheirMeasuredValuesNotZeroErrors) {
+  StudyResult s = synthetic_study(1, 0);
+  for (auto& r : s.cases) {
+    r.analysis.setup = "lattice";
+    r.headline["critical dt"] = 0.125;
+  }
+  const std::string t = convergence_table(s);
+  EXPECT_NE(t.find("critical dt"), std::string::npos) << t;
+  EXPECT_NE(t.find("0.125"), std::string::npos) << t;
+  EXPECT_EQ(t.find("L2"), std::string::npos) << "an analysis has no error norm:\n" << t;
+}
+
+TEST_F(Commands, StudyPrintsTheConvergenceTable) {
+  CompareOptions o;
+  o.problem = "laplace-tanh";
+  o.methods = {"fem"};
+  o.nodes = {21, 41, 81};
+  std::ostringstream out, progress;
+  ASSERT_EQ(command_compare(catalogue_, o, out, progress), 0);
+  const std::string t = out.str();
+  for (const char* n : {"least squares", "H1-semi rate [1]"})
+    EXPECT_NE(t.find(n), std::string::npos) << n << "\n" << t;
+  for (const char* n : {R"(\|\s+21 \|)", R"(\|\s+41 \|)", R"(\|\s+81 \|)"})
+    EXPECT_TRUE(std::regex_search(t, std::regex(n))) << n << "\n" << t;
 }
 
 TEST_F(Commands, CompareRefusesUnknownParametersListingValidOnes) {

@@ -127,8 +127,9 @@ ShapeTable BilinearElementApproximation::evaluate(const ParticleSet& particles,
     if (!found)
       throw InputError(fmt::format(
           "point ({}, {}) lies outside the Q4 element mesh of the particles (bounding box [{}, "
-          "{}] × [{}, {}]); Q4 elements cover only the lattice, so use boundary placement for "
-          "a mesh that fills the domain",
+          "{}] × [{}, {}]); Q4 elements cover only the lattice: use boundary placement for a "
+          "mesh that fills the domain, and keep --perturb small enough (about 0.3 or less) that "
+          "no element folds",
           x.x(), x.y(), lo.x(), hi.x(), lo.y(), hi.y()));
     const Eigen::Vector2d xi = inverse_map(e, x);
     reference(xi[0], xi[1], n, dxi, deta);

@@ -120,11 +120,19 @@ class WaveletApproximation final : public Approximation {
   double wscale_;
 };
 
+/// M, at most 16: band m has dilation 2^(m-1)·wscale·Δx, so band 16 already spans 32,768
+/// spacings; more bands only multiply the work (bands=1e9 used to run for ever).
+ParamSpec wavelet_bands_spec() {
+  ParamSpec s = ParamSpec::count("bands", 2, 0, "number of wavelet dilations M (at most 16)");
+  s.max = 16;
+  return s;
+}
+
 }  // namespace
 
 void register_wavelet_approximation(ApproximationRegistry& r, const KernelRegistry& k) {
   r.add("wavelet", "multi-scale RKPM: Gaussian RK low band + Mexican-hat wavelet bands (004 I §5)",
-        {ParamSpec::count("bands", 2, 0, "number of wavelet dilations M"),
+        {wavelet_bands_spec(),
          ParamSpec::positive("wscale", 1.0, "wavelet dilation of the first band over dx")},
         [&k](const Params& p) {
           std::shared_ptr<const Approximation> low = std::make_unique<CorrectedKernelApproximation>(

@@ -77,6 +77,10 @@ Params Params::parse(std::string_view text) {
             item));
       const std::string key = trim(item.substr(0, eq));
       const std::string val = trim(item.substr(eq + 1));
+      // A repeated key would silently keep one of two values: refuse it instead.
+      if (p.has(key))
+        throw InputError(fmt::format("parameter '{}' is given twice in '{}'; give each key once",
+                                     key, text));
       if (auto num = to_number(val))
         p.set(key, *num);
       else
@@ -98,7 +102,13 @@ double Params::number(const std::string& key) const {
 }
 
 int Params::integer(const std::string& key) const {
-  return static_cast<int>(std::lround(number(key)));
+  // Checked before the conversion: lround of a value outside int is undefined behaviour.
+  const double v = number(key);
+  if (!std::isfinite(v) || std::abs(v) > 2.0e9)
+    throw InputError(fmt::format("parameter '{}' = {} is not a usable integer (|value| must be "
+                                 "below 2e9)",
+                                 key, v));
+  return static_cast<int>(std::lround(v));
 }
 
 const std::string& Params::text(const std::string& key) const {

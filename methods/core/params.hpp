@@ -32,6 +32,13 @@ struct ParamSpec {
 
 using ParamSchema = std::vector<ParamSpec>;
 
+/// `spec` with an inclusive upper bound: counts that size a sweep or a patch are capped where
+/// a larger value could only run for ever or exhaust memory.
+inline ParamSpec capped(ParamSpec spec, double max) {
+  spec.max = max;
+  return spec;
+}
+
 /// A set of parameter values. `resolve` checks it against a schema and fills defaults.
 class Params {
  public:

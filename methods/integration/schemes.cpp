@@ -400,14 +400,17 @@ void register_gauss_cells(IntegrationRegistry& r) {
   r.add("gauss-cells",
         "Gauss-Legendre cells (001 §5.3): 1D between neighbouring particles or a uniform grid; "
         "2D the lattice quadrilaterals (boundary placement, eqs 67-68) or a background grid",
-        {ParamSpec::count("n", 10, 1, "1D: Gauss points per cell (2D uses nq)"),
-         ParamSpec::count("cells", 0, 0,
-                          "uniform background cells along x (0: cells between particles; 2D: "
-                          "lattice quadrilaterals, else about one particle per cell); 2D rows "
-                          "follow for nearly square cells"),
-         ParamSpec::count("nq", 0, 0,
-                          "2D: Gauss points per cell and direction; 0: n_Q = ceil(sqrt(m)) + 2 "
-                          "with m particles in the cell (001 eq 66)")},
+        {capped(ParamSpec::count("n", 10, 1, "1D: Gauss points per cell (2D uses nq; at most 64)"),
+                64),
+         capped(ParamSpec::count("cells", 0, 0,
+                                 "uniform background cells along x (0: cells between particles; "
+                                 "2D: lattice quadrilaterals, else about one particle per cell); "
+                                 "2D rows follow for nearly square cells; at most 10^6"),
+                1e6),
+         capped(ParamSpec::count("nq", 0, 0,
+                                 "2D: Gauss points per cell and direction; 0: n_Q = ceil(sqrt(m)) "
+                                 "+ 2 with m particles in the cell (001 eq 66); at most 64"),
+                64)},
         [](const Params& p) {
           return std::make_unique<GaussCells>(p.integer("n"), p.integer("cells"), p.integer("nq"));
         });

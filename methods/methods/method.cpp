@@ -173,7 +173,9 @@ ParamSchema common_galerkin_schema(int default_gauss_points) {
       ParamSpec::choice("bc", "lagrange", {"lagrange", "penalty"},
                         "essential boundary conditions: Lagrange multipliers or penalty"),
       ParamSpec::positive("penalty", 1e8, "penalty factor relative to the largest stiffness entry"),
-      ParamSpec::count("quad", default_gauss_points, 1, "Gauss points per background cell"),
+      capped(ParamSpec::count("quad", default_gauss_points, 1,
+                              "Gauss points per background cell (at most 64)"),
+             64),
   };
 }
 

@@ -6,11 +6,23 @@
 
 namespace mfv {
 
+namespace {
+
+/// M, at most 16: band m has dilation 2^(m-1)·wscale·Δx, so band 16 already spans 32,768
+/// spacings; more bands only multiply the work (bands=1e9 used to run for ever).
+ParamSpec wavelet_bands_spec() {
+  ParamSpec s = ParamSpec::count("bands", 2, 0, "number of wavelet dilations M (at most 16)");
+  s.max = 16;
+  return s;
+}
+
+}  // namespace
+
 void register_wavelet(MethodRegistry& r, const MethodParts& parts) {
   ParamSchema s = common_galerkin_schema(10);
   for (auto& spec : rkpm_window_schema())
     if (spec.name != "kernel") s.push_back(spec);
-  s.push_back(ParamSpec::count("bands", 2, 0, "number of wavelet dilations M"));
+  s.push_back(wavelet_bands_spec());
   s.push_back(ParamSpec::positive("wscale", 1.0, "first wavelet dilation over dx"));
   r.add("wavelet", "multi-scale RKPM: Gaussian RK low band plus M Mexican-hat wavelet bands", s,
         [parts](const Params& p) {
