@@ -103,6 +103,8 @@ INSTANTIATE_TEST_SUITE_P(
                 {"supports reach", "smaller support"}},
         RunCase{"enriched_bar_positions_huge",
                 run("enriched-bar", "xefg", 5, "", "positions=1000000000"), {"positions"}},
+        // Found by scripts/fuzz_cases.py: a window 2^j that underflows to zero.
+        RunCase{"rkpm_window_underflow", run("laplace-tanh", "rkpm", 21, "j=-1e300"), {"2^j"}},
         RunCase{"dt_negative", run("prestressed-rod", "fem", 11, "", "dt=-1"), {"dt"}},
         RunCase{"perturb_nan", run("laplace-tanh", "fem", 21, "", "", std::nan("")),
                 {"--perturb"}},

@@ -57,7 +57,8 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
   const double amax = particles.dilation.maxCoeff();
   if (!(particles.dilation.minCoeff() > 0))
     throw InputError(fmt::format("{}: every particle needs a positive dilation (support size); "
-                                 "got a minimum of {}",
+                                 "got a minimum of {}: raise the support parameter (dmax, radius, "
+                                 "or j for RKPM windows 2^j)",
                                  name_, particles.dilation.minCoeff()));
   const double kernel_scale = options_.normalize_kernel ? 1.0 / kernel_->integral(dim) : 1.0;
   const int nb = options_.correct ? basis_size(options_.basis_order, dim) : 0;
