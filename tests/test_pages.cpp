@@ -299,17 +299,17 @@ TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
   for (const auto& r : rows) {
     EXPECT_NE(r.find("| fem "), std::string::npos) << r;
     EXPECT_NE(r.find("| fem-a "), std::string::npos) << "first matching study: " << r;
-    EXPECT_NE(r.find(" 5% | "), std::string::npos) << r;
+    EXPECT_NE(r.find(" 1% | "), std::string::npos) << r;
     EXPECT_TRUE(r.find("| reproduced ") != std::string::npos ||
                 r.find("| partly ") != std::string::npos ||
                 r.find("| not reproduced ") != std::string::npos)
         << r;
     EXPECT_EQ(r.find("| – "), std::string::npos) << "no empty cell: " << r;
   }
-  // 241 nodes: ours 10 − 30/241 = 9.8755 against 9.7967, ratio 1.01 → reproduced at 5%.
+  // 241 nodes: ours 10 − 30/241 = 9.8755 against 9.7967, ratio 1.008 → reproduced at 1%.
   EXPECT_EQ(cells(rows[4]), (std::vector<std::string>{
                                 "004 II Table 1", "peak du/dx at x=3", "fem", "241", "9.7967",
-                                "9.8755", "1.01", "5%", "reproduced", "fem-a", ""}))
+                                "9.8755", "1.01", "1%", "reproduced", "fem-a", ""}))
       << rows[4];
   // The second study's values are a numbered note right under the table, not a row.
   EXPECT_NE(page.find("[1] also `fem-b`: ours"), std::string::npos) << page;

@@ -157,7 +157,7 @@ published = "004 II Table 1"
 quantity = "peak du/dx at x=3"
 nodes = [21, 41]
 paper = [3.3168, 6.0343]
-tolerance = 0.05
+tolerance = 0.01
 
 [[row]]
 id = "ring"
