@@ -720,7 +720,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     summary_table.add_row({"**reproduction** of the papers (ledger)",
                            ledger ? verdict_counts_line(entries)
                                   : "no ledger: the manifest names none ([suite] ledger)"});
-    summary_table.add_row({"**regression** against bands and baseline", summary});
+    // On stdout the messages come before the summary; in the report they follow it.
+    std::string report_summary = summary;
+    if (const auto at = report_summary.find(" (see above)"); at != std::string::npos)
+      report_summary.replace(at, 12, " (see [Regression](#regression))");
+    summary_table.add_row({"**regression** against bands and baseline", report_summary});
     summary_table.add_row({"machine", fmt::format("{} cores", cores())});
     summary_table.add_row({"time", fmt::format("wall {}, CPU {} (finished {})", fmt_seconds(wall),
                                                fmt_seconds(cpu), utc_now())});
