@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include "methods/core/errors.hpp"
+
 namespace mfv::test {
 
 /// A fresh directory per test, removed afterwards, so tests cannot see each other's files.
@@ -50,6 +52,23 @@ inline std::vector<std::string> names_in(const std::filesystem::path& dir) {
     names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+/// Writes `text` to `p`, creating its folders.
+inline void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+/// Expects `f` to throw InputError whose message names `path`.
+template <class F>
+void expect_refused(F&& f, const std::filesystem::path& path) {
+  try {
+    f();
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace mfv::test

@@ -16,26 +16,11 @@ namespace mfv {
 namespace {
 
 namespace fs = std::filesystem;
+using test::expect_refused;
 
 struct TempDir : test::TempDir {
   TempDir() : test::TempDir("mfv-report-cmd") {}
 };
-
-void write_plain(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
-
-/// Expects InputError whose message names `path`.
-template <class F>
-void expect_refused(F&& f, const fs::path& path) {
-  try {
-    f();
-    ADD_FAILURE() << "no error for " << path;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-  }
-}
 
 CompareOptions study(const fs::path& report) {
   CompareOptions o;
@@ -50,7 +35,7 @@ TEST(ReportCommands, StudyIntoAUsersDirectoryIsRefusedAndTheFileKept) {
   const Catalogue c;
   TempDir dir;
   const auto target = dir.path() / "DIR";
-  write_plain(target / "user.txt", "precious");
+  test::write_text(target / "user.txt", "precious");
   std::ostringstream out, progress;
   expect_refused([&] { command_compare(c, study(target), out, progress); }, target);
   EXPECT_EQ(test::read_file(target / "user.txt"), "precious");
@@ -75,7 +60,7 @@ TEST(ReportCommands, AnalyseAndVerifyRefuseAForeignTarget) {
   const Catalogue c;
   TempDir dir;
   const auto target = dir.path() / "file";
-  write_plain(target, "user data");
+  test::write_text(target, "user data");
   AnalyseOptions a;
   a.problem = "time-step";
   a.method = "fem";
@@ -83,7 +68,7 @@ TEST(ReportCommands, AnalyseAndVerifyRefuseAForeignTarget) {
   std::ostringstream out, progress;
   expect_refused([&] { command_analyse(c, a, out); }, target);
   const auto manifest = dir.path() / "m.toml";
-  write_plain(manifest,
+  test::write_text(manifest,
               "[suite]\nname = \"t\"\n[[case]]\nid = \"a\"\nproblem = \"laplace-tanh\"\n"
               "method = \"fem\"\nnodes = [11, 21]\n");
   VerifyOptions v;
@@ -97,9 +82,9 @@ TEST(ReportCommands, ForeignBaselineCtestScriptAndVtkFileAreNotOverwritten) {
   const Catalogue c;
   TempDir dir;
   const auto baseline = dir.path() / "baseline.toml";
-  write_plain(baseline, "my notes, not a baseline\n");
+  test::write_text(baseline, "my notes, not a baseline\n");
   const auto manifest = dir.path() / "m.toml";
-  write_plain(manifest,
+  test::write_text(manifest,
               "[suite]\nname = \"t\"\nbaseline = \"baseline.toml\"\n[[case]]\nid = \"a\"\n"
               "problem = \"laplace-tanh\"\nmethod = \"fem\"\nnodes = [11, 21]\n");
   VerifyOptions v;
@@ -111,12 +96,12 @@ TEST(ReportCommands, ForeignBaselineCtestScriptAndVtkFileAreNotOverwritten) {
   EXPECT_EQ(test::read_file(baseline), "my notes, not a baseline\n");
 
   const auto script = dir.path() / "tests.cmake";
-  write_plain(script, "my cmake\n");
+  test::write_text(script, "my cmake\n");
   expect_refused([&] { command_manifest_ctest(manifest.string(), "mfv", script.string()); }, script);
   EXPECT_EQ(test::read_file(script), "my cmake\n");
 
   const auto vtk = dir.path() / "mine.vtp";
-  write_plain(vtk, "not VTK\n");
+  test::write_text(vtk, "not VTK\n");
   RunOptions r;
   r.problem = "laplace-tanh";
   r.method = "fem";

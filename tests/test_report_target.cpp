@@ -21,16 +21,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::names_in;
+using test::expect_refused;
 using test::read_file;
 
 struct TempDir : test::TempDir {
   TempDir() : test::TempDir("mfv-target") {}
 };
-
-void write_plain(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-}
 
 /// Every file below `dir` with its content (links as "-> target").
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
@@ -47,20 +43,9 @@ std::map<std::string, std::string> snapshot(const fs::path& dir) {
 /// A report as mfv writes it: staged, then committed.
 void write_report(const fs::path& target, const std::string& text, bool force = false) {
   StagedDirectory staged(target, {force, "test"});
-  write_plain(staged.path() / "index.md", text);
-  write_plain(staged.path() / "plots" / "a.svg", "<svg/>");
+  test::write_text(staged.path() / "index.md", text);
+  test::write_text(staged.path() / "plots" / "a.svg", "<svg/>");
   staged.commit();
-}
-
-/// Expects InputError whose message names `path`.
-template <class F>
-void expect_refused(F&& f, const fs::path& path) {
-  try {
-    f();
-    ADD_FAILURE() << "no error for " << path;
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-  }
 }
 
 TEST(ReportTarget, AbsentTargetGetsTheReportAndItsMarker) {
@@ -90,7 +75,7 @@ TEST(ReportTarget, EmptyDirectoryAndEarlierReportAreReplaced) {
 TEST(ReportTarget, UserDirectoryIsRefusedEvenWithForce) {
   TempDir dir;
   const auto target = dir.path() / "DIR";
-  write_plain(target / "user.txt", "precious");
+  test::write_text(target / "user.txt", "precious");
   const auto before = snapshot(target);
   for (bool force : {false, true})
     expect_refused([&] { write_report(target, "report", force); }, target);
@@ -102,7 +87,7 @@ TEST(ReportTarget, ReportWithAddedFilesNeedsForce) {
   TempDir dir;
   const auto target = dir.path() / "run";
   write_report(target, "first");
-  write_plain(target / "notes.txt", "mine");
+  test::write_text(target / "notes.txt", "mine");
   expect_refused([&] { write_report(target, "second"); }, target);
   EXPECT_EQ(read_file(target / "notes.txt"), "mine");
   EXPECT_EQ(read_file(target / "index.md"), "first");
@@ -114,11 +99,11 @@ TEST(ReportTarget, ReportWithAddedFilesNeedsForce) {
 TEST(ReportTarget, NonDirectoriesAreNeverReplaced) {
   TempDir dir;
   const auto file = dir.path() / "file";
-  write_plain(file, "user data");
+  test::write_text(file, "user data");
   const auto fifo = dir.path() / "fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const auto outside = dir.path() / "outside";
-  write_plain(outside / "keep.txt", "keep");
+  test::write_text(outside / "keep.txt", "keep");
   const auto link = dir.path() / "link";
   fs::create_directory_symlink(outside, link);
   const auto dangling = dir.path() / "dangling";
@@ -166,10 +151,10 @@ TEST(ReportTarget, SecondWriterIsRefusedUntilTheFirstIsDone) {
 TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   TempDir dir;
   const auto target = dir.path() / "run";
-  write_plain(dir.path() / ".run.staging-999999" / "index.md", "dead run");
-  write_plain(dir.path() / ".run.old-999998" / "index.md", "dead run");
-  write_plain(dir.path() / ".run.staging-notes", "a user's file that only looks like ours");
-  write_plain(dir.path() / ".other.staging-999997" / "index.md", "another target's");
+  test::write_text(dir.path() / ".run.staging-999999" / "index.md", "dead run");
+  test::write_text(dir.path() / ".run.old-999998" / "index.md", "dead run");
+  test::write_text(dir.path() / ".run.staging-notes", "a user's file that only looks like ours");
+  test::write_text(dir.path() / ".other.staging-999997" / "index.md", "another target's");
   write_report(target, "new");
   EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{".other.staging-999997",
                                                             ".run.staging-notes", "run"}));
@@ -180,8 +165,8 @@ TEST(ReportTarget, CommitChecksTheTargetAgain) {
   const auto target = dir.path() / "run";
   write_report(target, "first");
   StagedDirectory staged(target);
-  write_plain(staged.path() / "index.md", "second");
-  write_plain(target / "added-while-running.txt", "mine");  // the user, meanwhile
+  test::write_text(staged.path() / "index.md", "second");
+  test::write_text(target / "added-while-running.txt", "mine");  // the user, meanwhile
   expect_refused([&] { staged.commit(); }, target);
   EXPECT_EQ(read_file(target / "index.md"), "first");
   EXPECT_EQ(read_file(target / "added-while-running.txt"), "mine");
@@ -197,7 +182,7 @@ pid_t stage_in_child(const fs::path& target, bool cleanup) {
     ::close(ready[0]);
     if (cleanup) install_staging_cleanup();
     StagedDirectory staged(target);
-    write_plain(staged.path() / "index.md", "half-written");
+    test::write_text(staged.path() / "index.md", "half-written");
     const char byte = 1;
     if (::write(ready[1], &byte, 1) != 1) ::_exit(3);
     for (;;) ::pause();
@@ -249,9 +234,9 @@ TEST(OutputFile, OnlyAbsentOrOwnFilesMayBeWritten) {
   TempDir dir;
   const auto p = dir.path() / "out.txt";
   EXPECT_NO_THROW(check_output_file(p, "output", starts_with_ours));
-  write_plain(p, "# ours\n");
+  test::write_text(p, "# ours\n");
   EXPECT_NO_THROW(check_output_file(p, "output", starts_with_ours));
-  write_plain(p, "the user's\n");
+  test::write_text(p, "the user's\n");
   expect_refused([&] { check_output_file(p, "output", starts_with_ours); }, p);
   expect_refused([&] { check_output_file(dir.path(), "output", starts_with_ours); }, dir.path());
   expect_refused([] { check_output_file("/dev/null", "output", starts_with_ours); }, "/dev/null");
@@ -261,7 +246,7 @@ TEST(SuiteName, IsANameNeverAPath) {
   TempDir dir;
   for (const std::string name : {"../victim", "a/b", "/abs", "..", ".hidden", ""}) {
     const auto m = dir.path() / "m.toml";
-    write_plain(m, "[suite]\nname = \"" + name +
+    test::write_text(m, "[suite]\nname = \"" + name +
                        "\"\n[[case]]\nid = \"a\"\nproblem = \"laplace-tanh\"\nmethod = \"fem\"\n"
                        "nodes = [11]\n");
     EXPECT_THROW(load_manifest(m), InputError) << name;

@@ -632,19 +632,21 @@ std::string case_text(const LedgerRow& row) {
   if (row.cases.empty()) return row.problem + " " + row.method;
   return fmt::format("{}", fmt::join(row.cases, ", "));
 }
+
+/// A Markdown table cell: pipes escaped, one line, "–" when empty.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    if (ch == '|') out += "\\|";
+    else if (ch == '\n') out += ' ';
+    else out += ch;
+  }
+  return out.empty() ? std::string("–") : out;
+}
 }  // namespace
 
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
   // Unpadded rows: the ledger is the report's longest table and padding would triple it.
-  auto cell = [](const std::string& text) {
-    std::string out;
-    for (char ch : text) {
-      if (ch == '|') out += "\\|";
-      else if (ch == '\n') out += ' ';
-      else out += ch;
-    }
-    return out.empty() ? std::string("–") : out;
-  };
   std::string md =
       "| id | source | claim | measured by | paper | ours | ours/paper (or −) | tolerance | "
       "verdict | reason, reading |\n|:--|:--|:--|:--|--:|--:|--:|:--|:--|:--|\n";
@@ -670,15 +672,6 @@ std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
 }
 
 std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries) {
-  auto cell = [](const std::string& text) {
-    std::string out;
-    for (char ch : text) {
-      if (ch == '|') out += "\\|";
-      else if (ch == '\n') out += ' ';
-      else out += ch;
-    }
-    return out.empty() ? std::string("–") : out;
-  };
   std::string md = "| id | source | claim | ours/paper (or −) | verdict |\n|:--|:--|:--|--:|:--|\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
