@@ -291,7 +291,7 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   out << fmt::format("report    {}\n", (dir / "index.md").string());
 }
 
-void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
+int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   if (o.nodes < 1)
     throw InputError(fmt::format("--nodes {} must be positive", o.nodes));
   if (!(o.perturbation >= 0 && o.perturbation < 0.5))
@@ -302,7 +302,7 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     command_analyse(c, AnalyseOptions{o.problem, o.method, o.method_params, o.problem_params,
                                       o.nodes, "", true},
                     out);
-    return;
+    return 0;
   }
   if (!o.vtk.empty()) {
     check_output_file(o.vtk, "VTK file", is_vtk_xml);
@@ -357,7 +357,7 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     if (!o.vtk.empty())
       out << "vtk       transient runs write time series through reports: use `mfv study ... "
              "-r <dir>`\n";
-    return;
+    return t.instability ? 1 : 0;
   }
   out << fmt::format("L2 error  {:.6e}  (relative {:.6e})\n", r.errors.l2, r.errors.l2_rel);
   out << fmt::format("H1 semi   {:.6e}  (relative {:.6e})\n", r.errors.h1_semi, r.errors.h1_semi_rel);
@@ -392,6 +392,7 @@ void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
       out << fmt::format("vtk       {}\n", o.vtk);
     }
   }
+  return 0;
 }
 
 std::pair<std::string, std::string> split_method_spec(const std::string& spec) {

@@ -19,8 +19,9 @@ struct RunOptions {
   double perturbation = 0;
   std::string vtk;  ///< optional .vtp path
 };
-/// `mfv run`: one case; prints errors, headline quantity and CPU times.
-void command_run(const Catalogue& c, const RunOptions& o, std::ostream& out);
+/// `mfv run`: one case; prints errors, headline quantity and CPU times. Returns the exit
+/// code: 1 when a transient run went unstable (its verdict is printed), 0 otherwise.
+int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out);
 
 struct CompareOptions {
   std::string problem, problem_params;

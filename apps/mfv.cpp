@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
   try {
     const mfv::Catalogue catalogue;
     if (*list) mfv::command_list(catalogue, std::cout);
-    if (*cmd_run) mfv::command_run(catalogue, run, std::cout);
+    if (*cmd_run) return mfv::command_run(catalogue, run, std::cout);
     if (*cmd_analyse) mfv::command_analyse(catalogue, ana, std::cout);
     if (*cmd_dispersion) {
       dis.problem = "dispersion";

@@ -85,7 +85,7 @@ TEST_F(TransientVerify, StudyAndRunSayWhatWasNotMeasuredOrReached) {
   r.problem_params = "safety=1.5,frames=0,threads=1";
   r.nodes = 61;
   std::ostringstream run;
-  command_run(catalogue_, r, run);
+  EXPECT_EQ(command_run(catalogue_, r, run), 1) << "an unstable run is a failure";
   EXPECT_NE(run.str().find("verdict   unstable at step "), std::string::npos) << run.str();
   const std::string text = run.str();
   const auto at = text.find("velocity error at L/c ");
