@@ -155,12 +155,7 @@ StepPair TimeStep::steps(const Catalogue& cat, const Method& method, int nodes, 
   const double dx = ps.spacing > 0 ? ps.spacing : (dom.upper[0] - dom.lower[0]) / (nodes - 1);
   Discretization d = method.discretize(dom, std::move(ps), 1);
   // The explicit engine's force tables span the particles only (no enrichment unknowns).
-  if (d.enriched_unknowns > 0)
-    throw InputError(fmt::format("the method's crack enrichment adds {} unknowns, which the "
-                                 "time-step analysis cannot handle; set crack=none, or use the "
-                                 "analysis enriched-bar for the critical step of the cracked bar "
-                                 "(method: {})",
-                                 d.enriched_unknowns, d.description));
+  refuse_enrichment(d, "the time-step analysis");
   if (description) *description = d.description;
   if (consistent && lumped && d.particle_values) {
     // mass=both on a collocation method: its unknowns are particle values with no shape

@@ -44,12 +44,7 @@ Discretization discretize_patch(const Method& method, const LatticePatch& p) {
   Discretization d = method.discretize(p.domain, p.particles, 1);
   // The explicit engine's force tables span the particles only; enrichment unknowns (xefg's
   // crack) have no place in them, nor does a crack in an infinite periodic lattice.
-  if (d.enriched_unknowns > 0)
-    throw InputError(fmt::format("the method's crack enrichment adds {} unknowns, which a "
-                                 "lattice (dispersion, stretch-map) analysis cannot handle; set "
-                                 "crack=none, or use the analysis enriched-bar for the cracked "
-                                 "bar (method: {})",
-                                 d.enriched_unknowns, d.description));
+  refuse_enrichment(d, "a lattice (dispersion, stretch-map) analysis");
   return d;
 }
 

@@ -190,11 +190,7 @@ CaseResult run_case(const Catalogue& catalogue, const CaseSpec& spec) {
   double t0 = cpu_seconds();
   ParticleSet particles = problem->particles(spec.nodes, spec.perturbation);
   Discretization d = method->discretize(domain, std::move(particles), problem->derivative_order());
-  if (d.enriched_unknowns > 0)
-    throw InputError(fmt::format("{} with its crack adds {} enrichment unknowns, which problem '{}' "
-                                 "cannot solve for; run the crack through the analysis problem "
-                                 "enriched-bar, or set crack=none",
-                                 spec.method, d.enriched_unknowns, spec.problem));
+  refuse_enrichment(d, fmt::format("problem '{}'", spec.problem));
   double t1 = cpu_seconds();
   r.cpu.setup = t1 - t0;
   r.method_description = d.description;

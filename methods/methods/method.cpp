@@ -7,6 +7,14 @@
 
 namespace mfv {
 
+void refuse_enrichment(const Discretization& d, const std::string& user) {
+  if (d.enriched_unknowns > 0)
+    throw InputError(fmt::format("the method's crack enrichment adds {} unknowns, which {} "
+                                 "cannot handle; set crack=none, or use the analysis "
+                                 "enriched-bar for the cracked bar (method: {})",
+                                 d.enriched_unknowns, user, d.description));
+}
+
 Eigen::MatrixXd Discretization::gradient(const Eigen::VectorXd& u) const {
   const int dim = trial_q.dim;
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(dim, trial_q.points());

@@ -63,6 +63,11 @@ struct Discretization {
   ShapeTable test_on(const IntegrationRule& boundary) const;
 };
 
+/// Throws InputError when `d` carries crack-enrichment unknowns (xefg), which `user` (e.g.
+/// "problem 'laplace-tanh'", "the time-step analysis") cannot handle: the message names the
+/// method, the count and the fixes (crack=none, or the enriched-bar analysis).
+void refuse_enrichment(const Discretization& d, const std::string& user);
+
 class Method {
  public:
   virtual ~Method() = default;
