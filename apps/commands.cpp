@@ -44,14 +44,8 @@ void list_registry(const R& r, std::ostream& out) {
   }
 }
 
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
-  return buf;
-}
+/// How reports print the time.
+constexpr const char* kReportTime = "%Y-%m-%d %H:%M:%S UTC";
 
 unsigned cores() {
   const unsigned n = std::thread::hardware_concurrency();
@@ -148,7 +142,7 @@ void print_rate_table(const std::vector<StudyResult>& studies, std::ostream& out
 
 /// Report header lines shared by compare and verify.
 std::string machine_line(double wall, double cpu) {
-  return fmt::format("Run {}, {} cores, wall {}, CPU {}.", utc_now(), cores(),
+  return fmt::format("Run {}, {} cores, wall {}, CPU {}.", utc_now(kReportTime), cores(),
                      fmt_seconds(wall), fmt_seconds(cpu));
 }
 
@@ -210,7 +204,7 @@ bool written_by_manifest_ctest(const std::string& head) {
 bool is_vtk_xml(const std::string& head) { return head.find("<VTKFile") != std::string::npos; }
 
 RunInfo run_info(const std::string& kind, double wall, double cpu) {
-  return RunInfo{kind, utc_now(), cores(), wall, cpu};
+  return RunInfo{kind, utc_now(kReportTime), cores(), wall, cpu};
 }
 
 StudyProgress progress_printer(std::ostream& progress, const std::string& prefix) {
@@ -728,7 +722,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     summary_table.add_row({"**regression** against bands and baseline", report_summary});
     summary_table.add_row({"machine", fmt::format("{} cores", cores())});
     summary_table.add_row({"time", fmt::format("wall {}, CPU {} (finished {})", fmt_seconds(wall),
-                                               fmt_seconds(cpu), utc_now())});
+                                               fmt_seconds(cpu), utc_now(kReportTime))});
     summary_table.add_row({"manifest", fmt::format("`{}`{}", o.manifest,
                                                    o.full ? " (`--full` resolutions)" : "")});
     head += "## Summary\n\n" + summary_table.str() +

@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "reports/markdown.hpp"
 
 namespace mfv {
 
@@ -144,15 +145,6 @@ std::vector<std::string> files_below(const fs::path& dir) {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-std::string utc_now_iso() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 /// The live staging directories of this process, for the signal thread. A process-wide
@@ -377,7 +369,8 @@ void StagedDirectory::commit() {
   auto& reg = StagingRegistry::get();
   std::lock_guard<std::mutex> hold(reg.mutex);
   std::string marker = fmt::format("mfv-report 1\nsuite {}\ntime {}\nversion {}\n",
-                                   options_.suite.empty() ? "-" : options_.suite, utc_now_iso(),
+                                   options_.suite.empty() ? "-" : options_.suite,
+                                   utc_now("%Y-%m-%dT%H:%M:%SZ"),
                                    MFV_VERSION);
   for (const auto& f : files_below(staging_))
     if (f != kReportMarker) marker += fmt::format("file {}\n", f);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -127,6 +128,15 @@ std::string fmt_rates(const std::vector<double>& v) {
   std::string s;
   for (double x : v) s += (s.empty() ? "" : ", ") + fmt_rate(x);
   return s;
+}
+
+std::string utc_now(const char* strftime_format) {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, strftime_format, &tm);
+  return buf;
 }
 
 std::string fmt_seconds(double s) {

@@ -45,4 +45,8 @@ std::string fmt_rates(const std::vector<double>& v);
 /// gives "–".
 std::string fmt_seconds(double s);
 
+/// The current UTC time in a strftime format, e.g. "%Y-%m-%d %H:%M:%S UTC" for reports or
+/// "%Y-%m-%dT%H:%M:%SZ" (ISO 8601) for files machines read.
+std::string utc_now(const char* strftime_format);
+
 }  // namespace mfv
