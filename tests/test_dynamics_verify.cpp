@@ -3,14 +3,13 @@
 /// instability and stays stable fails too. The blown-up rod is the reproduction:
 /// efg-ci at 1.5 times its critical step (it used to reach 7.8e197, then inf, and PASS).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "apps/commands.hpp"
+#include "tests/temp_files.hpp"
 
 namespace mfv {
 namespace {
@@ -19,17 +18,9 @@ namespace fs = std::filesystem;
 
 class TransientVerify : public ::testing::Test {
  protected:
-  void SetUp() override {
-    static std::atomic<int> n{0};
-    dir_ = fs::temp_directory_path() / ("mfv-transient-verify-" + std::to_string(::getpid()) +
-                                        "-" + std::to_string(n++));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   /// One rod-pulse case at 61 nodes with the given problem parameters and extra lines.
   int verify(const std::string& problem_params, const std::string& extra, std::string& out) {
-    const fs::path m = dir_ / "suite.toml";
+    const fs::path m = dir_.path() / "suite.toml";
     std::ofstream(m) << "[suite]\nname = \"t\"\n[[case]]\nid = \"rod/efg-ci\"\n"
                         "problem = \"rod-pulse\"\nmethod = \"efg-ci\"\n"
                         "problem_params = { "
@@ -47,7 +38,7 @@ class TransientVerify : public ::testing::Test {
   }
 
   const Catalogue catalogue_;
-  fs::path dir_;
+  test::TempDir dir_{"mfv-transient-verify"};
 };
 
 TEST_F(TransientVerify, BlownUpRunFailsWithItsStep) {
