@@ -16,8 +16,9 @@
 #include "methods/core/errors.hpp"
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
-#include "reports/study_report.hpp"
-#include "reports/vtk.hpp"
+#include "analyses/report_section.hpp"
+#include "analyses/case_vtk.hpp"
+#include "methods/core/clock.hpp"
 #include "verify/baseline.hpp"
 #include "verify/ledger.hpp"
 #include "verify/manifest.hpp"
@@ -64,7 +65,7 @@ std::string convergence_table(const StudyResult& s) {
   // The norms the study measures: transient runs have one main error (L2); static 2D
   // elasticity is judged in the energy norm, 1D problems in the H1 seminorm (their energy).
   const CaseResult& first = s.cases.front();
-  if (!first.analysis.empty()) {
+  if (first.find<FigureData>()) {
     // An analysis has no error to converge: its measured values per resolution instead.
     std::vector<std::string> header{"nodes [1]"};
     for (const auto& [k, v] : first.headline) header.push_back(k);
@@ -88,7 +89,7 @@ std::string convergence_table(const StudyResult& s) {
     double fit;
   };
   std::vector<Norm> norms{{"L2 rel", &ErrorNorms::l2_rel, &s.rates.l2_pairwise, s.rates.l2}};
-  if (first.transient.steps == 0) {
+  if (!first.find<TransientData>()) {
     if (first.components > 1)
       norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.energy_pairwise,
                        s.rates.energy});
@@ -224,7 +225,7 @@ void command_list(const Catalogue& c, std::ostream& out) {
   list_registry(c.problems, out);
 }
 
-void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
+int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
   const double wall0 = wall_seconds(), cpu0 = cpu_seconds();
   if (o.no_report && !o.report.empty())
     throw InputError(fmt::format("--report {} and --no-report contradict each other; give one",
@@ -238,15 +239,8 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   spec.method = o.method;
   spec.method_params = Params::parse(o.method_params);
   spec.problem_params = Params::parse(o.problem_params);
-  const auto problem = c.problems.create(spec.problem, spec.problem_params);
-  if (!problem->analysis()) {
-    std::vector<std::string> analyses;
-    for (const auto& name : c.problems.keys())
-      if (c.problems.create(name, {})->analysis()) analyses.push_back(name);
-    throw InputError(fmt::format("'{}' is not an analysis problem; analyses: {} (use `mfv run` or "
-                                 "`mfv study` for the others)",
-                                 spec.problem, fmt::join(analyses, ", ")));
-  }
+  spec.analysis = o.analysis;
+  const auto problem = create_problem(c, spec.problem, spec.problem_params);
   spec.nodes = o.nodes > 0 ? o.nodes : problem->resolutions(Level::standard).front();
   const std::filesystem::path dir =
       o.report.empty() ? std::filesystem::path("reports") / slug(spec.problem + "-" + spec.method)
@@ -257,32 +251,32 @@ void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& 
   study.label = study_label(spec);
   study.cases.push_back(run_case(c, spec));
   const CaseResult& r = study.cases.back();
-  out << fmt::format("analysis  {} {}\n", spec.problem, spec.problem_params.to_string());
+  out << fmt::format("analysis  {} of {} {}\n", r.analysis, spec.problem,
+                     spec.problem_params.to_string());
   out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
-  out << fmt::format("setup     {}\n", r.analysis.setup);
-  for (const auto& v : r.analysis.verdicts) out << fmt::format("verdict   {}\n", v);
-  for (const auto& [k, v] : r.headline) out << fmt::format("  {:<40} {:.6g}\n", k, v);
+  const int status = c.analyses.create(r.analysis)->print_case(r, out);
   std::set<std::string> printed;
   for (const auto& p : compare_published(*problem, {study},
-                                          c.problems.resolve(spec.problem, Params{}))) {
+                                          resolved_case_params(c, spec.problem, Params{},
+                                                               r.analysis))) {
     if (p.study.empty() || std::isnan(p.ours)) continue;
     const std::string line =
         fmt::format("published {} {} = {:.6g} ({}); ours {:.6g}\n", p.published.source,
                     p.published.quantity, p.published.value, p.published.note, p.ours);
     if (printed.insert(line).second) out << line;
   }
-  out << fmt::format("CPU       {:.3f} s\n", r.cpu.total());
-  if (!staged) return;
+  if (!staged) return status;
   const double wall = wall_seconds() - wall0, cpu = cpu_seconds() - cpu0;
   const std::string results = results_json(c, run_info("analysis", wall, cpu), {study}, {});
   std::vector<ReportSection> sections;
-  add_to_sections(sections, std::move(study));
+  add_to_sections(c, sections, std::move(study));
   write_report(c, *staged,
                fmt::format("# mfv analysis: {} with {}\n\n{}\n\nMachine-readable: "
                            "[results.json](results.json).\n\n",
                            spec.problem, spec.method, machine_line(wall, cpu)),
                sections, false, {{"results.json", results}});
   out << fmt::format("report    {}\n", (dir / "index.md").string());
+  return status;
 }
 
 int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
@@ -291,13 +285,6 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   if (!(o.perturbation >= 0 && o.perturbation < 0.5))
     throw InputError(fmt::format("--perturb {} must be in [0, 0.5) of the particle spacing",
                                  o.perturbation));
-  if (c.problems.create(o.problem, Params::parse(o.problem_params))->analysis()) {
-    // Analyses have no field to show errors of: print what `mfv analyse` prints.
-    command_analyse(c, AnalyseOptions{o.problem, o.method, o.method_params, o.problem_params,
-                                      o.nodes, "", true},
-                    out);
-    return 0;
-  }
   if (!o.vtk.empty()) {
     check_output_file(o.vtk, "VTK file", is_vtk_xml);
     std::filesystem::path q = o.vtk;
@@ -323,57 +310,13 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
   out << fmt::format("nodes     {}  (dx = {:.6g}, {} quadrature points)\n", r.particles, r.h,
                      r.quadrature_points);
-  if (r.transient.steps > 0) {
-    const TransientData& t = r.transient;
-    out << fmt::format("dynamics  {}\n", t.dynamics);
-    out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
-                       "{:.6g}{}{}\n",
-                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
-                       t.stopped_early
-                           ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
-                           : "",
-                       t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
-                                           : "");
-    if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
-    // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.
-    const std::string missing = t.instability ? "not reached" : "–";
-    auto shown = [&](double v, const char* spec) {
-      return std::isnan(v) ? missing : fmt::format(fmt::runtime(spec), v);
-    };
-    out << fmt::format("L2 error  relative {} (the problem's main error)\n",
-                       t.main_error.empty() ? std::string("not measured")
-                                            : shown(r.errors.l2_rel, "{:.6e}"));
-    for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
-    out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
-                       "({:.3g} particle-steps/s)\n",
-                       r.cpu.setup, r.cpu.assembly, r.cpu.solve,
-                       r.particles * double(t.steps) / std::max(r.cpu.solve, 1e-9));
+  const int status = c.analyses.create(r.analysis)->print_case(r, out);
+  if (r.find<StaticSolveData>() == nullptr) {
     if (!o.vtk.empty())
-      out << "vtk       transient runs write time series through reports: use `mfv study ... "
-             "-r <dir>`\n";
-    return t.instability ? 1 : 0;
+      out << "vtk       only static solves write --vtk; transient runs write time series "
+             "through reports: use `mfv study ... -r <dir>`\n";
+    return status;
   }
-  out << fmt::format("L2 error  {:.6e}  (relative {:.6e})\n", r.errors.l2, r.errors.l2_rel);
-  out << fmt::format("H1 semi   {:.6e}  (relative {:.6e})\n", r.errors.h1_semi, r.errors.h1_semi_rel);
-  out << fmt::format("H1 full   {:.6e}  (relative {:.6e})\n", r.errors.h1, r.errors.h1_rel);
-  if (r.components > 1) {
-    out << fmt::format("energy    {:.6e}  (relative {:.6e})\n", r.errors.energy,
-                       r.errors.energy_rel);
-    out << fmt::format("own rule  L2 relative {:.6e}, energy relative {:.6e} ({} points, {} "
-                       "stress points)\n",
-                       r.errors_paper.l2_rel, r.errors_paper.energy_rel, r.quadrature_points,
-                       r.stress_points);
-  } else {
-    out << fmt::format("paper-rule L2 {:.6e}, H1 semi {:.6e}\n", r.errors_paper.l2,
-                       r.errors_paper.h1_semi);
-  }
-  for (const auto& [k, v] : r.headline) out << fmt::format("{:<22} {:.6f}\n", k, v);
-  out << fmt::format("CPU       setup {:.4f} s, assembly {:.4f} s, solve {:.4f} s\n", r.cpu.setup,
-                     r.cpu.assembly, r.cpu.solve);
-  out << fmt::format("solver    {}: {} unknowns, {} nonzeros, fill {}, residual {:.1e}, "
-                     "rcond {:.1e}, condition {:.2e}\n",
-                     r.solve.solver, r.solve.unknowns, r.solve.nonzeros, r.solve.fill,
-                     r.solve.residual, r.solve.rcond, r.solve.condition);
   if (!o.vtk.empty()) {
     if (r.components > 1) {
       write_particles_vtp(o.vtk, r);
@@ -386,7 +329,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
       out << fmt::format("vtk       {}\n", o.vtk);
     }
   }
-  return 0;
+  return status;
 }
 
 std::pair<std::string, std::string> split_method_spec(const std::string& spec) {
@@ -407,7 +350,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
   base.problem = o.problem;
   base.problem_params = Params::parse(o.problem_params);
   base.perturbation = o.perturbation;
-  const auto problem = c.problems.create(base.problem, base.problem_params);
+  const auto problem = create_problem(c, base.problem, base.problem_params);
   if (o.full && !o.nodes.empty())
     throw InputError("--full and --nodes both choose the resolutions; give one of them");
   if (!(o.perturbation >= 0 && o.perturbation < 0.5))
@@ -452,7 +395,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
         print(i, n, m);
       });
       done.push_back(s);
-      add_to_sections(sections, std::move(s));
+      add_to_sections(c, sections, std::move(s));
     } catch (const std::bad_alloc&) {
       throw std::runtime_error(fmt::format("out of memory in the study of {} on {} at {} nodes; "
                                            "lower --nodes or free memory",
@@ -506,8 +449,13 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // Names and parameters are checked up front: a typo fails in a second, not after an hour.
   for (const auto* mc : selected) {
     try {
-      c.problems.create(mc->problem, mc->problem_params);
-      c.methods.resolve(mc->method, mc->method_params);
+      CaseSpec spec;
+      spec.problem = mc->problem;
+      spec.problem_params = mc->problem_params;
+      spec.method = mc->method;
+      spec.method_params = mc->method_params;
+      spec.analysis = mc->analysis;
+      resolve_case(c, spec);
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}:{}: case '{}': {}", manifest.path.string(), mc->line,
                                    mc->id, e.what()));
@@ -547,6 +495,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     CaseSpec spec;
     spec.problem = mc.problem;
     spec.problem_params = mc.problem_params;
+    spec.analysis = mc.analysis;
     spec.method = mc.method;
     spec.method_params = mc.method_params;
     spec.perturbation = mc.perturbation;
@@ -588,7 +537,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
         }
       }
       oc.study = s;
-      add_to_sections(sections, std::move(s));
+      add_to_sections(c, sections, std::move(s));
     } catch (const std::bad_alloc&) {
       // The case fails with its size named; the other cases still run.
       oc.error = fmt::format("out of memory at resolutions {} (nodes); lower them in the manifest",

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "verify/case.hpp"
-#include "verify/catalogue.hpp"
+#include "analyses/case.hpp"
+#include "apps/catalogue.hpp"
 
 namespace mfv {
 
@@ -54,11 +54,14 @@ struct AnalyseOptions {
   std::string report;  ///< report directory; empty: reports/<problem>-<method>
   bool no_report = false;
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
+  std::string analysis;  ///< empty: the problem's default analysis
 };
-/// `mfv analyse` and `mfv dispersion`: one analysis case (dispersion, time-step, enriched-bar,
-/// stretch-map) of any method by name; prints the set-up, verdicts and measured values with
-/// the published ones, and writes a report with the plots and CSV data.
-void command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out);
+/// `mfv analyse` and `mfv dispersion`: one case of any problem (typically dispersion,
+/// time-step, enriched-bar, stretch-map) with any method by name; prints what the analysis
+/// prints (set-up, verdicts, measured values; errors for field problems) with the published
+/// values, and writes a report with the plots and CSV data. Returns the analysis's exit status
+/// (1 for a run that went unstable).
+int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out);
 
 /// "rkpm:kernel=gaussian,j=1" → method name and parameters; throws InputError if malformed.
 std::pair<std::string, std::string> split_method_spec(const std::string& spec);

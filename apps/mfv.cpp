@@ -189,7 +189,7 @@ int main(int argc, char** argv) {
     const mfv::Catalogue catalogue;
     if (*list) mfv::command_list(catalogue, std::cout);
     if (*cmd_run) return mfv::command_run(catalogue, run, std::cout);
-    if (*cmd_analyse) mfv::command_analyse(catalogue, ana, std::cout);
+    if (*cmd_analyse) return mfv::command_analyse(catalogue, ana, std::cout);
     if (*cmd_dispersion) {
       dis.problem = "dispersion";
       std::string colon_angles = angles;
@@ -199,7 +199,7 @@ int main(int argc, char** argv) {
       if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
       if (!stress.empty()) dis.problem_params += ",stress=" + stress;
       if (map) dis.problem_params += ",map=sigma-kappa";
-      mfv::command_analyse(catalogue, dis, std::cout);
+      return mfv::command_analyse(catalogue, dis, std::cout);
     }
     if (*cmd_study) {
       cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};

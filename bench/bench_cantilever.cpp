@@ -3,7 +3,7 @@
 /// 1,105, 10,251 and 100,647 particles on the boundary lattice):
 ///   BM_CantileverSetup     Method::discretize: dilations, quadrature rule, neighbour search,
 ///                          shape functions / gradient tables at every integration point.
-///   BM_CantileverAssembly  Problem::assemble: stiffness matrix, load vector, constraints.
+///   BM_CantileverAssembly  BoundaryValueProblem::assemble: stiffness matrix, load vector, constraints.
 ///   BM_CantileverSolve     solve_constrained: essential conditions, then the sparse solver.
 /// Counters: particles, qpoints (integration points), time/particle (wall time of one run
 /// divided by the particle count), unknowns and nnz of K, and for the solve the fill of the
@@ -16,7 +16,8 @@
 #include <benchmark/benchmark.h>
 
 #include "problems/problem.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
+#include "analyses/static_solve.hpp"
 #include "verify/runner.hpp"
 
 namespace {
@@ -47,7 +48,7 @@ int depth_of(int particles) {
 }
 
 struct Setup {
-  std::unique_ptr<Problem> problem;
+  std::unique_ptr<BoundaryValueProblem> problem;
   std::unique_ptr<Method> method;
   Domain domain;
   int order = 1;
@@ -55,7 +56,7 @@ struct Setup {
 
 Setup make_setup(const char* method) {
   Setup s;
-  s.problem = catalogue().problems.create("cantilever");
+  s.problem = catalogue().problems.create_as<BoundaryValueProblem>("cantilever");
   s.method = catalogue().methods.create(method);
   s.domain = s.problem->domain();
   s.order = s.problem->derivative_order();

@@ -30,7 +30,7 @@
 
 #include "dynamics/explicit.hpp"
 #include "methods/particles.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 
 namespace {
 

@@ -4,7 +4,7 @@
 ///                      shape functions with first derivatives at every quadrature point.
 ///   BM_Evaluate        Approximation::evaluate alone on the quadrature points of a fixed
 ///                      discretization (neighbour search + moment matrices, no quadrature).
-///   BM_Assembly        Problem::assemble: the global stiffness matrix and load vector.
+///   BM_Assembly        BoundaryValueProblem::assemble: the global stiffness matrix and load vector.
 ///   BM_Solve           solve_constrained: Lagrange-multiplier system and sparse LU.
 /// Counters: points/s (quadrature points per second), nodes/s, time/node (wall time of one
 /// run divided by the node count). Speed is measured here only: tests assert no timings.
@@ -17,7 +17,8 @@
 #include <benchmark/benchmark.h>
 
 #include "problems/problem.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
+#include "analyses/static_solve.hpp"
 #include "verify/runner.hpp"
 
 namespace {
@@ -50,7 +51,7 @@ const MethodCase kCases[] = {
 };
 
 struct Setup {
-  std::unique_ptr<Problem> problem;
+  std::unique_ptr<BoundaryValueProblem> problem;
   std::unique_ptr<Method> method;
   Domain domain;
   int order = 1;
@@ -58,7 +59,7 @@ struct Setup {
 
 Setup make_setup(const MethodCase& mc) {
   Setup s;
-  s.problem = catalogue().problems.create("laplace-tanh", {});
+  s.problem = catalogue().problems.create_as<BoundaryValueProblem>("laplace-tanh", {});
   s.method = catalogue().methods.create(mc.method, Params::parse(mc.params));
   s.domain = s.problem->domain();
   s.order = s.problem->derivative_order();

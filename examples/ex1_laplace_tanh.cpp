@@ -4,8 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "verify/catalogue.hpp"
-#include "verify/norms.hpp"
+#include "apps/catalogue.hpp"
+#include "analyses/norms.hpp"
+#include "analyses/static_solve.hpp"
 #include "verify/runner.hpp"
 
 int main() {
@@ -14,7 +15,7 @@ int main() {
   const Catalogue catalogue;
 
   // 2. The problem: -u'' = f on [0, 6] with u = tanh(10 (x - 3)) (004 II §7).
-  const auto problem = catalogue.problems.create("laplace-tanh", Params::parse("s=10"));
+  const auto problem = catalogue.problems.create_as<BoundaryValueProblem>("laplace-tanh", Params::parse("s=10"));
 
   // 3. The method by name and parameters: RKPM, Gaussian window, dilation index j = 1.
   const auto method = catalogue.methods.create("rkpm", Params::parse("kernel=gaussian,j=1"));

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "stability/dispersion.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 
 int main() {
   using namespace mfv;

@@ -35,11 +35,11 @@ std::string describe(const StudySummary& s) {
                      s.energy_rel_finest, s.finest_particles);
 }
 
-/// "converges" as verify/convergence.hpp judges it: the finest error the smallest, the last
+/// "converges" as reports/convergence.hpp judges it: the finest error the smallest, the last
 /// pairwise and the fitted rate at least kConvergesMinRate.
 constexpr const char* kConvergesCriterion =
     "L2 errors converge: the finest is the smallest and the last pairwise and the fitted rate "
-    "are at least 0.5 (verify/convergence.hpp)";
+    "are at least 0.5 (reports/convergence.hpp)";
 
 Verdict not_run(const std::string& what) { return {"not run", "no study of " + what}; }
 
@@ -76,7 +76,7 @@ std::vector<Finding> cantilever_findings() {
                }, "kbm-si-rate"});
   f.push_back({"001 §9.1",
                "EFG ni and KBM si converge a little slower than EFG ci, with larger errors",
-               "each converges (verify/convergence.hpp) with an L2 rate within 0.5 below "
+               "each converges (reports/convergence.hpp) with an L2 rate within 0.5 below "
                "efg-ci's (or above it) and a larger finest L2 error",
                [](const std::vector<StudySummary>& all) -> Verdict {
                  const auto ci = of(all, "efg-ci");
@@ -164,7 +164,7 @@ std::vector<Finding> cantilever_findings() {
   return f;
 }
 
-class Cantilever final : public Problem {
+class Cantilever final : public BoundaryValueProblem {
  public:
   Cantilever(bool plane_strain, Placement placement) : placement_(placement) {
     material_.E = 3e7;

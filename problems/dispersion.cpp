@@ -1,4 +1,4 @@
-/// `dispersion`: the von Neumann stability analysis of 000 §3–4 run on any registered method
+/// `dispersion` problem: the von Neumann stability analysis of 000 §3–4 run on any registered method
 /// (stability/dispersion.hpp): an infinite line, rectangular or hexagonal lattice under a
 /// uniform prestress σ̄, Lagrangian or Eulerian kernel, ω²(κ, θ) from the method's own
 /// linearized internal force, and a verdict (stable / spurious mode at κ / tensile-unstable
@@ -11,188 +11,54 @@
 
 #include <fmt/format.h>
 
-#include "problems/problem.hpp"
-#include "stability/dispersion.hpp"
-#include "verify/catalogue.hpp"
-#include "verify/runner.hpp"
+#include "methods/core/errors.hpp"
+#include "problems/dispersion.hpp"
 
 namespace mfv {
 
-namespace {
+using namespace dispersion_headline;
 
-constexpr const char* kUnstable = "unstable";
-constexpr const char* kSpurious = "spurious mode";
-constexpr const char* kOnset = "onset kappa (pi/dx)";
-constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
-constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
-constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
+DispersionProblem::DispersionProblem(const Params& p) {
+  def_.lattice = lattice_kind_from(p.text("lattice"));
+  def_.frame = kernel_frame_from(p.text("frame"));
+  def_.sigma = p.number("sigma");
+  def_.biaxial = p.text("stress") == "biaxial";
+  def_.nu = p.number("nu");
+  def_.angles = parse_angles_degrees(p.text("angles"));
+  def_.consistent_mass = p.text("mass") == "consistent";
+  def_.map = p.text("map") == "sigma-kappa";
+  def_.map_limit = p.number("map_limit");
+  def_.half_width = p.integer("half_width");
+  if (def_.lattice == LatticeKind::line && def_.angles.size() > 1)
+    throw InputError("a line lattice has one direction: drop `angles` or use a 2D lattice");
+  if (!(def_.nu >= 0 && def_.nu < 0.5))
+    throw InputError(fmt::format("nu = {} must lie in [0, 0.5)", def_.nu));
+}
 
-class Dispersion final : public Problem {
- public:
-  explicit Dispersion(const Params& p)
-      : lattice_(lattice_kind_from(p.text("lattice"))),
-        frame_(kernel_frame_from(p.text("frame"))),
-        sigma_(p.number("sigma")),
-        biaxial_(p.text("stress") == "biaxial"),
-        nu_(p.number("nu")),
-        angles_(parse_angles_degrees(p.text("angles"))),
-        consistent_(p.text("mass") == "consistent"),
-        map_(p.text("map") == "sigma-kappa"),
-        map_limit_(p.number("map_limit")),
-        half_width_(p.integer("half_width")) {
-    if (lattice_ == LatticeKind::line && angles_.size() > 1)
-      throw InputError("a line lattice has one direction: drop `angles` or use a 2D lattice");
-    if (!(nu_ >= 0 && nu_ < 0.5)) throw InputError(fmt::format("nu = {} must lie in [0, 0.5)", nu_));
-  }
-
-  Domain domain() const override {
-    return lattice_ == LatticeKind::line ? Domain::interval(-1, 1)
-                                         : Domain::rectangle(-1, -1, 1, 1);
-  }
-  int components() const override { return lattice_ == LatticeKind::line ? 1 : 2; }
-  AssembledSystem assemble(const Discretization&) const override {
-    throw std::logic_error("dispersion is an analysis: the runner calls analyse");
-  }
-  bool analysis() const override { return true; }
-  /// The resolution of an analysis on an infinite lattice is its sampling of κ.
-  std::string resolution_name() const override { return "wave numbers per direction"; }
-  std::vector<int> resolutions(Level) const override { return {101}; }
-
-  void analyse(const AnalysisContext& c, CaseResult& r) const override;
-  std::vector<PublishedValue> published() const override;
-  std::vector<std::string> published_notes() const override;
-  std::vector<Finding> findings() const override;
-
- private:
-  int dim() const { return lattice_ == LatticeKind::line ? 1 : 2; }
-  /// E in 1D, μ in 2D: the modulus σ̄ and the frequencies are normalized by.
-  double modulus() const { return dim() == 1 ? 1.0 : 1.0 / (2 * (1 + nu_)); }
-  DispersionSetup setup(const Catalogue& cat, double sigma_bar) const;
-
-  LatticeKind lattice_;
-  KernelFrame frame_;
-  double sigma_;
-  bool biaxial_;
-  double nu_;
-  std::vector<double> angles_;
-  bool consistent_, map_;
-  double map_limit_;
-  int half_width_;
-};
-
-DispersionSetup Dispersion::setup(const Catalogue& cat, double sigma_bar) const {
+DispersionSetup DispersionDefinition::setup(const MaterialRegistry& materials,
+                                            double sigma_bar) const {
   DispersionSetup s;
-  s.lattice = lattice_;
+  s.lattice = lattice;
   s.spacing = 1;
-  s.frame = frame_;
+  s.frame = frame;
   Params m;
   m.set("E", 1.0);
   if (dim() == 2) {
-    m.set("nu", nu_);
+    m.set("nu", nu);
     m.set("plane", "strain");
   }
-  s.material = cat.materials.create("svk", m);
+  s.material = materials.create("svk", m);
   s.density = 1;
   const int d = dim();
   s.prestress = Eigen::MatrixXd::Zero(d, d);
   s.prestress(0, 0) = sigma_bar * modulus();
-  if (d == 2 && biaxial_) s.prestress(1, 1) = sigma_bar * modulus();
-  s.consistent_mass = consistent_;
-  s.half_width = half_width_;
+  if (d == 2 && biaxial) s.prestress(1, 1) = sigma_bar * modulus();
+  s.consistent_mass = consistent_mass;
+  s.half_width = half_width;
   return s;
 }
 
-std::string degrees(double a) { return fmt::format("{:g}°", a); }
-
-void Dispersion::analyse(const AnalysisContext& c, CaseResult& r) const {
-  const double pi = std::numbers::pi;
-  const int points = c.spec.nodes;
-  if (points < 3 || points > 100000)
-    throw InputError(fmt::format("dispersion samples {} wave numbers per direction (the case's "
-                                 "nodes, or --points); use 3 to 100000, e.g. 101",
-                                 points));
-  const double t0 = cpu_seconds();
-  const BlochRow row = bloch_row(c.method, setup(c.catalogue, sigma_));
-  const double t1 = cpu_seconds();
-  std::vector<double> thetas;
-  for (double a : angles_) thetas.push_back(a * pi / 180);
-  const StabilityVerdict v = stability_verdict(row, thetas, points, modulus(), 1.0, sigma_ > 0);
-  r.particles = row.patch_particles;
-  r.h = 1;
-  r.dim = dim();
-  r.components = dim();
-  r.method_description = row.description;
-  AnalysisData& a = r.analysis;
-  a.setup = fmt::format(
-      "{} lattice, Δx = 1, patch of {} particles (half width {}), neighbours within {:.2f} Δx, "
-      "{} kernel, St Venant-Kirchhoff E = 1{}, ρ = 1, prestress σ̄ = {:g}{} (σ/{}), {} mass, "
-      "{} force evaluations (central differences, step 1e-6 Δx)",
-      to_string(lattice_), row.patch_particles, row.half_width, row.influence_radius,
-      frame_ == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
-      dim() == 2 ? fmt::format(" ν = {:g} plane strain", nu_) : "", sigma_,
-      dim() == 2 ? (biaxial_ ? " biaxial" : " uniaxial (xx)") : "", dim() == 1 ? "E" : "μ",
-      consistent_ ? "consistent" : "lumped", row.force_evaluations);
-  a.verdicts.push_back(v.text);
-  a.figures.push_back({"dispersion",
-                       fmt::format("Dispersion, {} kernel, σ̄ = {:g}",
-                                   frame_ == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
-                                   sigma_),
-                       "κ Δx / π", "ω Δx / (c π)  (negative: −|ω| of an unstable mode)", false,
-                       "lines"});
-  AnalysisData::Table table{"dispersion", {"theta_deg", "kappa_over_pi_dx"}, {}};
-  for (int b = 0; b < dim(); ++b) table.columns.push_back(fmt::format("omega2_branch{}", b + 1));
-  table.columns.push_back("max_abs_imag_omega2");
-  for (double angle : angles_) {
-    const DispersionBranch br = dispersion_branch(row, angle * pi / 180, points, modulus(), 1.0);
-    for (int b = 0; b < dim(); ++b) {
-      AnalysisData::Curve cv{"dispersion",
-                             dim() == 1 ? "ω" : fmt::format("θ = {} branch {}", degrees(angle), b + 1),
-                             {}, {}};
-      for (std::size_t i = 0; i < br.kappa.size(); ++i) {
-        const double w2 = br.omega2[i][b];
-        cv.x.push_back(br.kappa[i]);
-        cv.y.push_back(w2 >= 0 ? std::sqrt(w2) : -std::sqrt(-w2));
-      }
-      a.curves.push_back(std::move(cv));
-    }
-    for (std::size_t i = 0; i < br.kappa.size(); ++i) {
-      std::vector<double> line{angle, br.kappa[i]};
-      for (double w2 : br.omega2[i]) line.push_back(w2);
-      line.push_back(br.imaginary[i]);
-      table.rows.push_back(std::move(line));
-    }
-  }
-  a.tables.push_back(std::move(table));
-  if (map_) {
-    // The operator is affine in the prestress: two rows give the whole (σ̄, κ) plane.
-    const BlochRow zero = bloch_row(c.method, setup(c.catalogue, 0.0));
-    const BlochRow unit = bloch_row(c.method, setup(c.catalogue, 1.0));
-    a.figures.push_back({"stable-domain",
-                         "Stable domain: stable between the curves (000 Figs 5-6)", "κ Δx / π",
-                         "σ̄", false, "lines"});
-    AnalysisData::Table mt{"stable-domain", {"theta_deg", "kappa_over_pi_dx", "sigma_lower", "sigma_upper"}, {}};
-    for (double angle : angles_) {
-      const ThresholdCurve tc =
-          stress_threshold(zero, unit, angle * pi / 180, points, map_limit_, modulus(), 1.0);
-      const std::string at = dim() == 1 ? "" : fmt::format(" θ = {}", degrees(angle));
-      a.curves.push_back({"stable-domain", "lower bound" + at, tc.kappa, tc.lower});
-      a.curves.push_back({"stable-domain", "upper bound" + at, tc.kappa, tc.upper});
-      for (std::size_t i = 0; i < tc.kappa.size(); ++i)
-        mt.rows.push_back({angle, tc.kappa[i], tc.lower[i], tc.upper[i]});
-    }
-    a.tables.push_back(std::move(mt));
-  }
-  r.headline[kUnstable] = v.unstable ? 1 : 0;
-  r.headline[kSpurious] = v.spurious ? 1 : 0;
-  r.headline[kMinRatio] = v.min_ratio;
-  r.headline[kCutoff] = v.cutoff_omega;
-  if (v.unstable) r.headline[kOnset] = v.onset;
-  if (v.spurious) r.headline[kSpuriousKappa] = v.spurious_kappa;
-  r.cpu.assembly = t1 - t0;
-  r.cpu.solve = cpu_seconds() - t1;
-}
-
-std::vector<PublishedValue> Dispersion::published() const {
+std::vector<PublishedValue> DispersionProblem::published() const {
   PublishedValue onset;
   onset.source = "000 §3.1.2, Fig. 3";
   onset.quantity = kOnset;
@@ -205,7 +71,7 @@ std::vector<PublishedValue> Dispersion::published() const {
   return {onset};
 }
 
-std::vector<std::string> Dispersion::published_notes() const {
+std::vector<std::string> DispersionProblem::published_notes() const {
   return {
       "The analysis differentiates the method's own explicit-dynamics force, so an Eulerian "
       "kernel's Shepard normalization and correction factor move with the particles. 000 "
@@ -213,6 +79,8 @@ std::vector<std::string> Dispersion::published_notes() const {
       "catalogue warns that the onset it reports (about 0.6π/Δx at σ̄ = 1, D_mx = 1.5) depends on "
       "this. The closed forms (stability/closed_forms.md) are evaluated beside ours."};
 }
+
+namespace {
 
 /// The studies of one method whose problem parameters match `want` (missing keys take the
 /// defaults of the dispersion schema).
@@ -248,7 +116,9 @@ double sigma_of(const StudySummary& s) {
   return s.problem_params.has("sigma") ? s.problem_params.number("sigma") : 0.0;
 }
 
-std::vector<Finding> Dispersion::findings() const {
+}  // namespace
+
+std::vector<Finding> DispersionProblem::findings() const {
   std::vector<Finding> f;
   f.push_back(
       {"000 §3.1.1, §4.1.1", "Lagrangian kernel, nodal integration: ω = 0 at κ = π/Δx whatever the stress (rank deficiency)",
@@ -365,8 +235,6 @@ std::vector<Finding> Dispersion::findings() const {
   return f;
 }
 
-}  // namespace
-
 void register_dispersion(ProblemRegistry& r) {
   ParamSchema s{
       ParamSpec::choice("lattice", "line", {"line", "rectangular", "hexagonal"},
@@ -388,7 +256,7 @@ void register_dispersion(ProblemRegistry& r) {
         "von Neumann dispersion analysis of any method on an infinite line, rectangular or "
         "hexagonal lattice under prestress: omega(kappa, theta), spurious modes, tensile "
         "instability (000 §3-4)",
-        s, [](const Params& p) { return std::make_unique<Dispersion>(p); });
+        s, [](const Params& p) { return std::make_unique<DispersionProblem>(p); });
 }
 
 }  // namespace mfv

@@ -9,7 +9,7 @@ namespace mfv {
 
 namespace {
 
-class ElasticPatch final : public Problem {
+class ElasticPatch final : public BoundaryValueProblem {
  public:
   ElasticPatch() {
     material_.E = 1.0;

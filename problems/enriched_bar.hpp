@@ -1,40 +1,45 @@
-/// Stiffness, the mass matrices of 003 §4 and the critical step of an extended EFG
-/// discretization (columns: particles, then enrichments), shared by `enriched-bar` and tests.
-///
-/// K = Σ_q w_q Bᵀ D B (1D: E N_I' N_J'); consistent M = ρ Σ_q w_q N_I N_J (003 eq 13);
-/// row sum M_I = Σ_J M_IJ; MLS1 (003 eqs 14-16, Hinton's lumping per background cell h):
-/// m_I = Σ_h ϑ_h ∫_h ρ Ñ_I², ϑ_h = ∫_h ρ / Σ_I ∫_h ρ Ñ_I² over every column, enriched or not;
-/// MLS2 (003 eqs 19-22, kinetic-energy preserving): ordinary columns by row sum over the
-/// ordinary columns (∫ ρ N_I), an enriched column ψ N_I gets its node's mass times the
-/// N_I²-weighted mean of ψ² (eq 21; for the step H² = 1 this is eq 22's M̂'_I = M̂_I).
-/// Δt = 2/√λ_max of K φ = λ M φ (003 eq 12).
+/// The `enriched-bar` problem as a definition (003, Samaniego et al.): a 1D bar of particles
+/// 1 m apart (E = 200 GPa, ρ = 7850) or a 2D square patch, the node interval a crack is swept
+/// through, the crack tip, and the sweep's settings (DMAX values, positions, mass schemes).
+/// The `crack-sweep` analysis (analyses/crack_sweep.cpp) runs it with the extended EFG.
 #pragma once
-#include <Eigen/Dense>
+#include <string>
+#include <vector>
 
-#include "methods/methods/method.hpp"
+#include "problems/problem.hpp"
+#include "stability/enriched_mass.hpp"
 
 namespace mfv {
 
-enum class MassScheme { consistent, row_sum, mls1, mls2 };
-
-/// 1D: E·A with A = 1; 2D: plane stress or strain, thickness 1.
-struct BarMaterial {
-  double E = 200e9, rho = 7850, nu = 0.3;
-  bool plane_strain = false;
+/// The bar or patch a crack-sweep case sweeps a crack through.
+struct EnrichedBarDefinition {
+  int dim = 1;        ///< 1: the 003 bar; 2: the square patch (003 §4.3.1)
+  int n = 10;         ///< particles per side
+  int interval = 4;   ///< the node interval the crack is moved through
+  double tip = 0.9;   ///< 2D: relative y of the tip inside the middle row of cells
+  BarMaterial material;
+  /// The problem's resolved parameters: the sweep's settings (dmax, dmax_count, dmax_step,
+  /// positions, mass, mls1, tip, fit ...).
+  Params sweep;
+  Domain domain() const {
+    const double L = n - 1.0;
+    return dim == 1 ? Domain::interval(0, L) : Domain::rectangle(0, 0, L, L);
+  }
 };
 
-/// Dense K over (N + enriched_unknowns) × components unknowns, components interleaved.
-Eigen::MatrixXd enriched_stiffness(const Discretization& d, const BarMaterial& m);
-/// The mass matrix of a scheme (dense; diagonal for the lumped ones). MLS2 needs the
-/// discretization's trial approximation to be an EnrichedApproximation when it has
-/// enrichment columns.
-/// mls1_per_point: eq 16's ϑ per Gauss point instead of per background cell.
-Eigen::MatrixXd enriched_mass(const Discretization& d, const BarMaterial& m, MassScheme s,
-                              bool mls1_per_point = false);
-/// λ_max of K φ = λ M φ (M diagonal: eigenvalues of M^{-1/2} K M^{-1/2}); +∞ when M is not
-/// positive definite (a lumped mass with a non-positive entry has no stable step).
-double largest_eigenvalue(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, bool diagonal);
-/// 2/√λ_max.
-double critical_step(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, bool diagonal);
+class EnrichedBarProblem final : public Problem {
+ public:
+  explicit EnrichedBarProblem(const Params& p);
+  const EnrichedBarDefinition& definition() const { return def_; }
+  Domain domain() const override { return def_.domain(); }
+  std::vector<std::string> analyses() const override { return {"crack-sweep"}; }
+  std::vector<int> resolutions(Level) const override { return {def_.n}; }
+  std::vector<PublishedValue> published() const override;
+  std::vector<Finding> findings() const override;
+  std::vector<std::string> published_notes() const override;
+
+ private:
+  EnrichedBarDefinition def_;
+};
 
 }  // namespace mfv

@@ -19,8 +19,7 @@
 
 #include "problems/problem.hpp"
 #include "problems/time_step.hpp"
-#include "problems/transient.hpp"
-#include "verify/runner.hpp"
+#include "problems/transient_problem.hpp"
 
 namespace mfv {
 
@@ -66,7 +65,7 @@ class CheckedPlastic final : public Material {
   mutable std::atomic<double> worst_{0.0};
 };
 
-class GrkBar final : public Problem {
+class GrkBar final : public TransientProblem {
  public:
   explicit GrkBar(const Params& p) : p_(p) {
     F0_ = p.number("F0");
@@ -80,10 +79,6 @@ class GrkBar final : public Problem {
   }
 
   Domain domain() const override { return Domain::interval(0, L_); }
-  bool transient() const override { return true; }
-  AssembledSystem assemble(const Discretization&) const override {
-    throw std::logic_error("grk-bar is transient: the runner calls simulate");
-  }
   std::vector<int> resolutions(Level level) const override {
     if (level == Level::quick) return {21};
     return {21, 41, 81};
@@ -108,24 +103,28 @@ class GrkBar final : public Problem {
     u *= v_star() / c();
   }
 
-  void simulate(const Method& method, Discretization d, CaseResult& r) const override {
-    const double t0 = cpu_seconds();
+  Params analysis_defaults(const std::string& analysis) const override {
+    Params p;
+    if (analysis == "transient") p.set("integrator", "newmark");
+    return p;
+  }
+
+  TransientDefinition define(const Discretization& d, const TransientInputs& in) const override {
     const int n = d.particles.size();
-    MaterialRegistry materials("material");
-    register_all_materials(materials);
     Params mp;
     mp.set("E", E_);
-    DynamicsModel model;
+    TransientDefinition def;
+    DynamicsModel& model = def.model;
     std::shared_ptr<const CheckedPlastic> checked;
     if (plastic_) {
       mp.set("sigma_y", sigma_y_);
       mp.set("Ep", Ep_);
-      checked = std::make_shared<CheckedPlastic>(materials.create("plastic-1d", mp), sigma_y_,
+      checked = std::make_shared<CheckedPlastic>(in.materials.create("plastic-1d", mp), sigma_y_,
                                                  E_ * Ep_ / (E_ - Ep_));
       model.material = checked;
     } else {
       mp.set("nu", 0.0);
-      model.material = materials.create("svk", mp);  // 1D: S = E E11, Hooke for small strain
+      model.material = in.materials.create("svk", mp);  // 1D: S = E E11, Hooke for small strain
     }
     model.density = rho_;
     // Mass per unit length times A = 1 in²: ρ V_I (half at the ends).
@@ -146,51 +145,53 @@ class GrkBar final : public Problem {
     }
     model.external_force = [load](double, Eigen::VectorXd& f) { f += load; };
 
-    ExplicitDynamics sim(method, std::move(d), std::move(model), dynamics_options(p_));
-    StepChoice step = choose_step(sim, p_);
     const double dt_fem = L_ / (n - 1) / c();
-    if (courant_ > 0 && !(p_.number("dt") > 0)) step.target = courant_ * dt_fem;  // dt wins
-    r.cpu.assembly = cpu_seconds() - t0;
-
+    if (courant_ > 0) def.preferred_step = [this, dt_fem](double) { return courant_ * dt_fem; };
     // Checkpoints at whole steps near 1.5 L/c and 2.5 L/c (so the step stays the one asked).
     const double T = L_ / c();
-    // A step past L/c would put the checkpoints at whole steps far beyond 2.5 L/c, where the
-    // exact solution's sum over reflections has no end in sight.
-    if (!(step.target <= T))
-      throw InputError(fmt::format("grk-bar: dt = {:.3g} is longer than the wave's transit L/c = "
-                                   "{:.3g} s; the errors are taken at 1.5 and 2.5 L/c, so give "
-                                   "dt below L/c (the critical step is {:.3g})",
-                                   step.target, T, step.critical));
-    const double t1 = std::max(1.0, std::round(1.5 * T / step.target)) * step.target;
-    const double t2 = std::max(2.0, std::round(2.5 * T / step.target)) * step.target;
+    def.step_checkpoints = [T](double dt, double critical) {
+      // A step past L/c would put the checkpoints at whole steps far beyond 2.5 L/c, where
+      // the exact solution's sum over reflections has no end in sight.
+      if (!(dt <= T))
+        throw InputError(fmt::format("grk-bar: dt = {:.3g} is longer than the wave's transit L/c "
+                                     "= {:.3g} s; the errors are taken at 1.5 and 2.5 L/c, so "
+                                     "give dt below L/c (the critical step is {:.3g})",
+                                     dt, T, critical));
+      return std::vector<double>{std::max(1.0, std::round(1.5 * T / dt)) * dt,
+                                 std::max(2.0, std::round(2.5 * T / dt)) * dt};
+    };
     const int mid = n / 2;
-    const double x_mid = sim.discretization().particles.x(0, mid);
-    double peak = 0;
-    // Checkpoints the run does not reach (stopped as unstable) keep NaN: "not reached".
-    std::map<std::string, double> errors = {{kErrU1, NAN}, {kErrU2, NAN}, {kErrS2, NAN},
-                                            {kErrV2, NAN}};
-    ErrorNorms norms = ErrorNorms::not_measured();
-    TransientPlan plan;
-    plan.end_time = end_time_;
-    plan.checkpoints = {t1, t2};
-    plan.probe_names = {"u mid", "u mid exact", "v mid", "v mid exact"};
-    plan.probes = [&](const ExplicitDynamics& s) {
+    const double x_mid = d.particles.x(0, mid);
+    // What the run's callbacks track: the peak velocity and the checkpoints' errors (NaN
+    // until reached).
+    struct Track {
+      double peak = 0;
+      std::map<std::string, double> errors = {{kErrU1, NAN}, {kErrU2, NAN}, {kErrS2, NAN},
+                                              {kErrV2, NAN}};
+      ErrorNorms norms = ErrorNorms::not_measured();
+    };
+    auto track = std::make_shared<Track>();
+    def.end_time = end_time_;
+    def.label = fmt::format("grk-bar {}", plastic_ ? "plastic" : "elastic");
+    def.probe_names = {"u mid", "u mid exact", "v mid", "v mid exact"};
+    def.probes = [this, x_mid, mid](const ExplicitDynamics& s) {
       double se, ve, ue;
       exact(x_mid, s.time(), se, ve, ue);
       const Eigen::MatrixXd u = s.particle_displacement(), v = s.particle_velocity();
       return std::vector<double>{u(0, mid), ue, v(0, mid), ve};
     };
-    plan.frame_data = [&](const ExplicitDynamics& s, TransientData::Frame& f) {
-      Eigen::MatrixXd ve(1, f.x.cols()), se(1, f.x.cols());
+    def.frame_data = [this](const ExplicitDynamics& s,
+                            std::vector<std::pair<std::string, Eigen::MatrixXd>>& data) {
       const Eigen::MatrixXd& X = s.discretization().particles.x;
+      Eigen::MatrixXd ve(1, X.cols()), se(1, X.cols());
       for (int I = 0; I < X.cols(); ++I) {
         double uu;
         exact(X(0, I), s.time(), se(0, I), ve(0, I), uu);
       }
-      f.data.emplace_back("exact velocity", ve);
-      f.data.emplace_back("exact stress", se);
+      data.emplace_back("exact velocity", ve);
+      data.emplace_back("exact stress", se);
     };
-    plan.at_checkpoint = [&](const ExplicitDynamics& s, int k) {
+    def.at_checkpoint = [this, track, n](const ExplicitDynamics& s, int k, TransientMeasures&) {
       // Relative L2 errors on the method's own rule: u and σ at the integration points.
       const Discretization& dd = s.discretization();
       Eigen::MatrixXd qu, qg;
@@ -215,6 +216,8 @@ class GrkBar final : public Problem {
         ev += dd.particles.volume[I] * std::pow(v(0, I) - ve, 2);
         nv += dd.particles.volume[I] * ve * ve;
       }
+      auto& errors = track->errors;
+      ErrorNorms& norms = track->norms;
       if (k == 0) {
         errors[kErrU1] = std::sqrt(eu / nu);
       } else {
@@ -229,43 +232,50 @@ class GrkBar final : public Problem {
         norms.energy_rel = norms.h1_semi_rel;
       }
     };
-    plan.unstable = [&](const ExplicitDynamics& s) {
+    def.unstable = [this](const ExplicitDynamics& s) {
       const double vmax = s.velocity().cwiseAbs().maxCoeff();
       if (vmax <= kUnstableRatio * v_star()) return std::string();
       return fmt::format("peak velocity {:.3g} in/s above {:g} v* (the exact solution never "
                          "exceeds v*)",
                          vmax, kUnstableRatio);
     };
-    plan.stop = [&](const ExplicitDynamics& s) {
+    def.stop = [this, track](const ExplicitDynamics& s) {
       const double vmax = s.velocity().cwiseAbs().maxCoeff();
-      if (std::isfinite(vmax)) peak = std::max(peak, vmax);
+      if (std::isfinite(vmax)) track->peak = std::max(track->peak, vmax);
       return !std::isfinite(vmax) || vmax > 1e3 * v_star();
     };
-    r.errors = ErrorNorms::not_measured();
     if (!plastic_)
-      r.transient.main_error = "relative L2 displacement error ||u_h - u|| / ||u|| at t = 2.5 "
-                               "L/c (method's rule, dimensionless)";
-    run_transient(sim, step.target, step.critical, plan, p_,
-                  fmt::format("grk-bar {}", plastic_ ? "plastic" : "elastic"), r);
-    // run_transient's own bound may have stopped the run before plan.stop saw the last step.
-    if (const double v_end = sim.velocity().cwiseAbs().maxCoeff(); std::isfinite(v_end))
-      peak = std::max(peak, v_end);
-    // Elastic runs: errors against the exact solution (plastic ones have none: the elastic
-    // solution holds only while the bar does not yield, which F0 = 5000 lb never makes it).
-    if (!plastic_) {
-      r.errors = norms;
-      for (const auto& [k, v] : errors) r.headline[k] = v;
-    }
-    r.headline[kCritical] = step.critical;
-    // 004 III eq 5.2.5 as problems/time_step.hpp reads it, for the Gaussian window of this run.
-    if (r.spec.method == "rkpm" && r.method_params.text("kernel") == "gaussian")
-      r.headline[kEq525] = grk_critical_step_eq525(
-          sim.discretization().particles.dilation[n / 2], L_ / (n - 1), c());
-    r.headline["critical dt / FEM dt"] = step.critical / dt_fem;
-    r.headline["dt / FEM dt"] = r.transient.dt / dt_fem;
-    r.headline[kPeak] = peak / v_star();
-    r.headline[kUnstable] = r.transient.instability ? 1.0 : 0.0;
-    if (checked) r.headline[kFlow] = checked->worst();
+      def.main_error = "relative L2 displacement error ||u_h - u|| / ||u|| at t = 2.5 "
+                       "L/c (method's rule, dimensionless)";
+    const bool gaussian_rkpm =
+        in.method == "rkpm" && in.method_params.text("kernel") == "gaussian";
+    def.finish = [this, track, checked, dt_fem, n, gaussian_rkpm](const ExplicitDynamics& sim,
+                                                                  const TransientOutcome& out,
+                                                                  TransientMeasures& m) {
+      double peak = track->peak;
+      // The transient analysis's own bound may have stopped the run before `stop` saw the
+      // last step.
+      if (const double v_end = sim.velocity().cwiseAbs().maxCoeff(); std::isfinite(v_end))
+        peak = std::max(peak, v_end);
+      // Elastic runs: errors against the exact solution (plastic ones have none: the elastic
+      // solution holds only while the bar does not yield, which F0 = 5000 lb never makes it).
+      if (!plastic_) {
+        m.errors = track->norms;
+        for (const auto& [k, v] : track->errors) m.headline[k] = v;
+      }
+      m.headline[kCritical] = out.dt_critical;
+      // 004 III eq 5.2.5 as problems/time_step.hpp reads it, for the Gaussian window of this
+      // run.
+      if (gaussian_rkpm)
+        m.headline[kEq525] = grk_critical_step_eq525(
+            sim.discretization().particles.dilation[n / 2], L_ / (n - 1), c());
+      m.headline["critical dt / FEM dt"] = out.dt_critical / dt_fem;
+      m.headline["dt / FEM dt"] = out.dt / dt_fem;
+      m.headline[kPeak] = peak / v_star();
+      m.headline[kUnstable] = out.unstable ? 1.0 : 0.0;
+      if (checked) m.headline[kFlow] = checked->worst();
+    };
+    return def;
   }
 
   std::map<std::string, double> headline_exact() const override {
@@ -330,7 +340,6 @@ void register_grk_bar(ProblemRegistry& r) {
                         "dt / safety parameters"),
       ParamSpec::number("end_time", 0.0, "simulated time (s); 0: one period 4L/c"),
   };
-  for (auto& spec : dynamics_schema("newmark", 0.8)) s.push_back(spec);
   r.add("grk-bar",
         "1D bar E=3e7 psi, rho=7.24e-4 slug/in^3, A=1, L=100 in, fixed at 0, step force "
         "F0=5000 lb at L; elastic or elastic-plastic (004 III §6)",

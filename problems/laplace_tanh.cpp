@@ -146,7 +146,7 @@ Finding sph_galerkin_boundary_gradient(double s) {
           "sph-galerkin-boundary-gradient"};
 }
 
-class LaplaceTanh final : public Problem {
+class LaplaceTanh final : public BoundaryValueProblem {
  public:
   explicit LaplaceTanh(double s) : s_(s) {}
 

@@ -19,8 +19,7 @@
 #include <fmt/format.h>
 
 #include "problems/problem.hpp"
-#include "problems/transient.hpp"
-#include "verify/runner.hpp"
+#include "problems/transient_problem.hpp"
 
 namespace mfv {
 
@@ -148,7 +147,7 @@ std::vector<Finding> prestressed_rod_findings() {
   return f;
 }
 
-class PrestressedRod final : public Problem {
+class PrestressedRod final : public TransientProblem {
  public:
   explicit PrestressedRod(const Params& p) : p_(p) {
     sigma_bar_ = p.number("sigma");
@@ -158,10 +157,6 @@ class PrestressedRod final : public Problem {
   }
 
   Domain domain() const override { return Domain::interval(0, length_); }
-  bool transient() const override { return true; }
-  AssembledSystem assemble(const Discretization&) const override {
-    throw std::logic_error("prestressed-rod is transient: the runner calls simulate");
-  }
 
   ParticleSet particles(int nodes, double perturbation) const override {
     if (nodes < 5 || nodes % 2 == 0)
@@ -176,16 +171,20 @@ class PrestressedRod final : public Problem {
     return {41, 81};
   }
 
-  void simulate(const Method& method, Discretization d, CaseResult& r) const override {
-    const double t0 = cpu_seconds();
+  Params analysis_defaults(const std::string& analysis) const override {
+    Params p;
+    if (analysis == "transient") p.set("safety", 0.5);
+    return p;
+  }
+
+  TransientDefinition define(const Discretization& d, const TransientInputs& in) const override {
     const int n = d.particles.size(), centre = n / 2;
-    MaterialRegistry materials("material");
-    register_all_materials(materials);
     Params mp;
     mp.set("E", E_);
     mp.set("nu", 0.0);
-    DynamicsModel model;
-    model.material = materials.create("svk", mp);
+    TransientDefinition def;
+    DynamicsModel& model = def.model;
+    model.material = in.materials.create("svk", mp);
     model.density = rho_;
     model.mass = lumped_masses(d.particles, rho_, MassLumping::volume);
     const double s0 = sigma_bar_ * E_;
@@ -204,7 +203,8 @@ class PrestressedRod final : public Problem {
     }
     // The kick is on the centre node's velocity parameter (000: "the center node of the rod is
     // given an initial velocity"): the particle velocities are that parameter's field.
-    Eigen::MatrixXd v = Eigen::MatrixXd::Zero(1, n);
+    Eigen::MatrixXd& v = def.initial_velocity;
+    v = Eigen::MatrixXd::Zero(1, n);
     if (d.particle_values) {
       v(0, centre) = v0_;
     } else {
@@ -213,67 +213,60 @@ class PrestressedRod final : public Problem {
         for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
           if (t.index[e] == centre) v(0, I) += v0_ * t.value[e];
     }
-    ExplicitDynamics sim(method, std::move(d), std::move(model), dynamics_options(p_));
-    sim.set_particle_velocity(v);
-    const StepChoice step = choose_step(sim, p_);
-    r.cpu.assembly = cpu_seconds() - t0;
 
-    // No exact solution: no error norm is measured.
-    r.errors = ErrorNorms::not_measured();
-    double peak = 0, peak_k = 0, onset = NAN;
-    const double k0 = sim.energy().initial;
-    TransientPlan plan;
-    plan.end_time = end_time_;
-    plan.probe_names = {"centre velocity", "max |v|"};
-    plan.probes = [centre](const ExplicitDynamics& s) {
+    // No exact solution: no error norm is measured. What the run's callbacks track:
+    struct Track {
+      double peak = 0, peak_k = 0, onset = NAN;
+    };
+    auto track = std::make_shared<Track>();
+    def.end_time = end_time_;
+    def.label = fmt::format("prestressed-rod σ̄={:g}", sigma_bar_);
+    def.probe_names = {"centre velocity", "max |v|"};
+    def.probes = [centre](const ExplicitDynamics& s) {
       return std::vector<double>{s.velocity()[centre], s.velocity().cwiseAbs().maxCoeff()};
     };
-    plan.unstable = [&](const ExplicitDynamics& s) {
+    const double v0 = v0_;
+    def.unstable = [track, v0](const ExplicitDynamics& s) {
       const double vmax = s.velocity().cwiseAbs().maxCoeff();
-      if (vmax <= kUnstableRatio * v0_) return std::string();
-      onset = s.time();
+      if (vmax <= kUnstableRatio * v0) return std::string();
+      track->onset = s.time();
       return fmt::format("peak nodal velocity {:.3g} m/s above {:g} v0 (a stable run keeps it "
                          "below v0 by its energy balance)",
                          vmax, kUnstableRatio);
     };
-    plan.stop = [&](const ExplicitDynamics& s) {
+    def.stop = [track, v0](const ExplicitDynamics& s) {
       const double vmax = s.velocity().cwiseAbs().maxCoeff();
-      if (std::isfinite(vmax)) peak = std::max(peak, vmax);
-      peak_k = std::max(peak_k, s.energy().kinetic);
+      if (std::isfinite(vmax)) track->peak = std::max(track->peak, vmax);
+      track->peak_k = std::max(track->peak_k, s.energy().kinetic);
       // Grown by two orders of magnitude: the verdict is clear, the rest is overflow.
-      return !std::isfinite(vmax) || vmax > kStop * v0_;
+      return !std::isfinite(vmax) || vmax > kStop * v0;
     };
-    try {
-      run_transient(sim, step.target, step.critical, plan, p_,
-                    fmt::format("prestressed-rod σ̄={:g}", sigma_bar_), r);
-    } catch (const SingularError& e) {
-      // An Eulerian kernel whose particles have crossed (a support left with one particle):
-      // the instability has destroyed the particle arrangement.
-      r.transient.steps = sim.counters().steps;
-      r.transient.stopped_early = true;
-      if (!r.transient.instability)
-        r.transient.instability = TransientData::Instability{
-            sim.counters().steps, sim.time(),
-            fmt::format("the particle arrangement collapsed ({})", e.what())};
-    }
-    // run_transient's own bound may have stopped the run before plan.stop saw the last step.
-    if (const double v_end = sim.velocity().cwiseAbs().maxCoeff(); std::isfinite(v_end))
-      peak = std::max(peak, v_end);
-    if (std::isnan(onset) && r.transient.instability) onset = r.transient.instability->time;
-    const bool stopped = r.transient.stopped_early;
-    r.headline["stopped at t"] = sim.time();
-    // When the peak velocity first passed the threshold, in wave transits l/c (NaN: never).
-    r.headline[kOnset] = onset / (length_ / wave_speed());
-    const double ratio = peak / v0_;
-    // A run stopped early measured a lower bound of the peak (the cap, or the blow-up bound
-    // of run_transient): the report prints it as "≥".
-    r.headline[kPeak] = ratio;
-    r.headline[kPeakCapped] = stopped ? 1.0 : 0.0;
-    r.headline[kUnstable] = r.transient.instability ? 1.0 : 0.0;
-    r.headline[kKinetic] = k0 > 0 ? peak_k / k0 : NAN;
-    r.headline[kCentre] = sim.velocity()[centre] / v0_;
-    r.headline["critical dt"] = step.critical;
-    r.headline["dt / (dx/c)"] = r.transient.dt / (sim.discretization().particles.spacing / wave_speed());
+    const double transit = length_ / wave_speed();
+    def.finish = [track, v0, centre, transit, this](const ExplicitDynamics& sim,
+                                                    const TransientOutcome& out,
+                                                    TransientMeasures& m) {
+      double peak = track->peak, onset = track->onset;
+      // The transient analysis's own bound may have stopped the run before `stop` saw the
+      // last step.
+      if (const double v_end = sim.velocity().cwiseAbs().maxCoeff(); std::isfinite(v_end))
+        peak = std::max(peak, v_end);
+      if (std::isnan(onset) && out.unstable) onset = out.unstable_time;
+      const double k0 = sim.energy().initial;
+      m.headline["stopped at t"] = sim.time();
+      // When the peak velocity first passed the threshold, in wave transits l/c (NaN: never).
+      m.headline[kOnset] = onset / transit;
+      // A run stopped early measured a lower bound of the peak (the cap, or the blow-up bound
+      // of the transient analysis): the report prints it as "≥".
+      m.headline[kPeak] = peak / v0;
+      m.headline[kPeakCapped] = out.stopped_early ? 1.0 : 0.0;
+      m.headline[kUnstable] = out.unstable ? 1.0 : 0.0;
+      m.headline[kKinetic] = k0 > 0 ? track->peak_k / k0 : NAN;
+      m.headline[kCentre] = sim.velocity()[centre] / v0;
+      m.headline["critical dt"] = out.dt_critical;
+      m.headline["dt / (dx/c)"] =
+          out.dt / (sim.discretization().particles.spacing / wave_speed());
+    };
+    return def;
   }
 
   std::map<std::string, double> headline_exact() const override {
@@ -329,7 +322,6 @@ void register_prestressed_rod(ProblemRegistry& r) {
                         "balance the t = 0 internal force of the prestress by a constant load "
                         "(the quadrature's boundary error otherwise pushes the end particles)"),
   };
-  for (auto& spec : dynamics_schema("verlet", 0.5)) s.push_back(spec);
   r.add("prestressed-rod",
         "1D rod fixed at both ends, l=0.04 m, E=10 GPa, rho=2450, initial stress sigma E, centre "
         "node kicked with v0=40 m/s: tensile instability of Eulerian kernels (000 §5.1)",

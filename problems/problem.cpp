@@ -5,7 +5,7 @@
 
 namespace mfv {
 
-void Problem::exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
+void BoundaryValueProblem::exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
                           Eigen::MatrixXd& grad) const {
   Eigen::VectorXd v, dv;
   exact(x, v, dv);
@@ -13,11 +13,11 @@ void Problem::exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
   grad = dv.transpose();
 }
 
-ParticleSet Problem::particles(int nodes, double perturbation) const {
+ParticleSet ParticleProblem::particles(int nodes, double perturbation) const {
   return uniform_line(domain(), nodes, perturbation);
 }
 
-IntegrationRule Problem::common_error_rule(const ParticleSet& particles) const {
+IntegrationRule BoundaryValueProblem::common_error_rule(const ParticleSet& particles) const {
   // Uniform cells (at least 1200, four per particle interval), 6 Gauss points each.
   const Domain d = domain();
   const int cells = std::max(1200, 4 * (particles.size() - 1));

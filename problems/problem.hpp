@@ -1,5 +1,6 @@
-/// Problems of the catalogue: domain, weak form, exact solution and the published values
-/// the reports print beside ours. One file per catalogue entry.
+/// Problems of the catalogue as definitions: domain, particles, material, loading, exact or
+/// reference solution, the published values and the findings, and which analyses apply
+/// (analyses/ runs them). One file per catalogue entry; no runner, report or clock here.
 #pragma once
 #include <cmath>
 #include <functional>
@@ -15,20 +16,9 @@
 #include "methods/core/registry.hpp"
 #include "methods/materials/linear_elastic.hpp"
 #include "methods/methods/method.hpp"
-#include "verify/case.hpp"
-#include "verify/convergence.hpp"
+#include "reports/convergence.hpp"
 
 namespace mfv {
-
-class Catalogue;
-
-/// What an analysis problem gets from the runner: the catalogue (to build variants of the
-/// method, e.g. with a crack moved), the case and the method built from it.
-struct AnalysisContext {
-  const Catalogue& catalogue;
-  const CaseSpec& spec;
-  const Method& method;
-};
 
 /// A linear system from a weak form, with essential conditions u(x_b) = g_b still to impose.
 struct AssembledSystem {
@@ -55,7 +45,7 @@ struct PublishedValue {
   /// Problem parameters the value belongs to (e.g. loading=gaussian); a case matches when
   /// it set each of them to the same value or left it at its default.
   Params problem_params;
-  /// Relative tolerance on ours/published for the verdict (verify/comparison.hpp); the
+  /// Relative tolerance on ours/published for the verdict (problems/comparison.hpp); the
   /// ledger row of this value (suites/ledger.toml) states the same number.
   double tolerance = 0.05;
 };
@@ -73,7 +63,7 @@ struct StudySummary {
   std::vector<std::map<std::string, double>> headlines;
   /// Per resolution, coarsest first: spacing h and relative errors on the common rule.
   std::vector<double> h, l2_rel, energy_rel;
-  /// What the errors do under refinement (verify/convergence.hpp): pairwise rates, fitted
+  /// What the errors do under refinement (reports/convergence.hpp): pairwise rates, fitted
   /// rate and the trend. A finding that says "converges" asks these, not the slope alone.
   ConvergenceJudgement l2_trend, energy_trend;
 };
@@ -97,25 +87,58 @@ struct Finding {
 /// Resolutions per suite level.
 enum class Level { quick, standard, full };
 
+/// What every problem is: a domain, resolutions, the analyses that apply to it, and what the
+/// papers published about it.
 class Problem {
  public:
   virtual ~Problem() = default;
   virtual Domain domain() const = 0;
+  /// The analyses (analyses/analysis.hpp) that apply, by registered name; the first is the
+  /// default of a case that names none.
+  virtual std::vector<std::string> analyses() const = 0;
+  /// Parameters of `analysis` this problem sets differently from the analysis's own
+  /// defaults (e.g. a smaller time-step safety); a case's own values override them.
+  virtual Params analysis_defaults(const std::string& analysis) const { return {}; }
+  /// Node counts of a refinement study.
+  virtual std::vector<int> resolutions(Level level) const = 0;
+  /// What `nodes` counts, for reports ("nodes", "particles across the depth").
+  virtual std::string resolution_name() const { return "nodes"; }
+  /// Published qualitative findings, each with the check that gives our verdict.
+  virtual std::vector<Finding> findings() const { return {}; }
+  /// Exact values of the headline quantities (for the reports).
+  virtual std::map<std::string, double> headline_exact() const { return {}; }
+  virtual std::vector<PublishedValue> published() const { return {}; }
+  /// What the reports say about the published values: known misprints, ambiguous readings
+  /// and the best explanation of a gap (Markdown paragraphs). Numbers stay in the tables.
+  virtual std::vector<std::string> published_notes() const { return {}; }
+};
+
+/// A problem solved on particles of its domain (static or transient): the particle sets, the
+/// field's components and the derivatives the method must provide.
+class ParticleProblem : public Problem {
+ public:
   /// Highest derivative of the shape functions the weak form needs.
   virtual int derivative_order() const { return 1; }
+  /// Field components per particle (1 scalar, 2 for 2D displacements).
+  virtual int components() const { return 1; }
+  /// The particles of resolution `nodes` (1D: nodes on the line; 2D problems say what it
+  /// counts), perturbed by `perturbation` of the spacing.
+  virtual ParticleSet particles(int nodes, double perturbation) const;
+};
+
+/// A static boundary value problem, run by the `static-solve` analysis: its weak form
+/// (assemble), exact solution and the norms its errors are measured in.
+class BoundaryValueProblem : public ParticleProblem {
+ public:
+  std::vector<std::string> analyses() const override { return {"static-solve"}; }
   /// Exact solution and its derivative at the columns of x (scalar field, 1D problems).
   virtual void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const {
     throw std::logic_error("this problem has a vector field: use exact_field");
   }
-  /// Field components per particle (1 scalar, 2 for 2D displacements).
-  virtual int components() const { return 1; }
   /// Exact field (components × n) and gradient (components·dim × n; row c·dim + d holds
   /// ∂u_c/∂x_d) at the columns of x. The default wraps the scalar `exact`.
   virtual void exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
                            Eigen::MatrixXd& grad) const;
-  /// The particles of resolution `nodes` (1D: nodes on the line; 2D problems say what it
-  /// counts), perturbed by `perturbation` of the spacing.
-  virtual ParticleSet particles(int nodes, double perturbation) const;
   /// Energy density σ(∇v):ε(∇v) of gradient columns (the energy norm's integrand, 001 eq 74);
   /// the default |∇v|² is the H1 seminorm's (unit diffusion).
   virtual Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const {
@@ -129,74 +152,17 @@ class Problem {
   /// true: the "paper" errors are integrated with each method's own quadrature, values and
   /// gradients (001 §9.1); false: the paper's Gauss points between particles (004 II §7).
   virtual bool errors_on_method_rule() const { return false; }
-  /// Published qualitative findings, each with the check that gives our verdict.
-  virtual std::vector<Finding> findings() const { return {}; }
-  /// What `nodes` counts, for reports ("nodes", "particles across the depth").
-  virtual std::string resolution_name() const { return "nodes"; }
+  /// Gauss points per cell between particles used by the paper for error norms.
+  virtual int paper_error_points() const { return 12; }
   virtual AssembledSystem assemble(const Discretization& d) const = 0;
-  /// Transient problems (explicit dynamics, problems/transient.hpp) return true: the runner
-  /// then calls simulate instead of assemble and the linear solve.
-  virtual bool transient() const { return false; }
-  /// Runs `method` (whose discretization at t = 0 is `d`) through the problem's loading and
-  /// fills r.errors (relative L2 of the problem's main field), r.headline, r.cpu.assembly
-  /// (engine set-up), r.cpu.solve (time loop) and r.transient.
-  virtual void simulate(const Method& method, Discretization d, CaseResult& r) const {
-    throw std::logic_error("simulate called on a static problem");
-  }
-  /// Analyses (dispersion, critical time steps, stable domains) return true: the runner then
-  /// calls analyse, which builds the discretizations it needs itself (a lattice patch, a bar
-  /// with a crack swept through it) instead of the problem's particles.
-  virtual bool analysis() const { return false; }
-  /// Fills r.headline (the values bands and baselines check), r.analysis (figures, tables,
-  /// verdicts), r.particles, r.h, r.dim, r.method_description and r.cpu.
-  virtual void analyse(const AnalysisContext& c, CaseResult& r) const {
-    throw std::logic_error("analyse called on a problem that is not an analysis");
-  }
-  /// Node counts of a refinement study.
-  virtual std::vector<int> resolutions(Level level) const = 0;
   /// Problem-specific headline quantities of a solution (name → value), e.g. peak u'.
   virtual std::map<std::string, double> headline(const Discretization& d,
                                                  const Eigen::VectorXd& u) const {
     return {};
   }
-  /// Exact values of the headline quantities (for the reports).
-  virtual std::map<std::string, double> headline_exact() const { return {}; }
-  virtual std::vector<PublishedValue> published() const { return {}; }
-  /// What the reports say about the published values: known misprints, ambiguous readings
-  /// and the best explanation of a gap (Markdown paragraphs). Numbers stay in the tables.
-  virtual std::vector<std::string> published_notes() const { return {}; }
-  /// Gauss points per cell between particles used by the paper for error norms.
-  virtual int paper_error_points() const { return 12; }
 };
 
 using ProblemRegistry = Registry<Problem>;
-
-void register_laplace_tanh(ProblemRegistry&);
-void register_advection_diffusion(ProblemRegistry&);
-void register_cantilever(ProblemRegistry&);
-void register_elastic_patch(ProblemRegistry&);
-void register_rod_pulse(ProblemRegistry&);
-void register_prestressed_rod(ProblemRegistry&);
-void register_grk_bar(ProblemRegistry&);
-void register_dispersion(ProblemRegistry&);
-void register_time_step(ProblemRegistry&);
-void register_enriched_bar(ProblemRegistry&);
-void register_stretch_map(ProblemRegistry&);
-
-/// Registers every problem: add one line here for a new one.
-inline void register_all_problems(ProblemRegistry& r) {
-  register_laplace_tanh(r);
-  register_advection_diffusion(r);
-  register_cantilever(r);
-  register_elastic_patch(r);
-  register_rod_pulse(r);
-  register_prestressed_rod(r);
-  register_grk_bar(r);
-  register_dispersion(r);
-  register_time_step(r);
-  register_enriched_bar(r);
-  register_stretch_map(r);
-}
 
 /// A 2D linear elasticity boundary value problem on a rectangle: material, tractions on sides,
 /// prescribed displacements on sides (001 eqs 44–50 in the static, linear case).

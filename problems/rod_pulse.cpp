@@ -8,8 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "problems/transient.hpp"
-#include "verify/runner.hpp"
+#include "problems/transient_problem.hpp"
 
 namespace mfv {
 
@@ -54,7 +53,7 @@ class RodSolution {
   double alpha_, centre_, v_, T_;
 };
 
-class RodPulse final : public Problem {
+class RodPulse final : public TransientProblem {
  public:
   explicit RodPulse(const Params& p)
       : p_(p),
@@ -69,7 +68,6 @@ class RodPulse final : public Problem {
   Domain domain() const override { return Domain::rectangle(0, 0, kLength, kHeight); }
   int components() const override { return 2; }
   std::string resolution_name() const override { return "particles along the length"; }
-  bool transient() const override { return true; }
 
   /// nodes particles along the length, (nodes − 1)/12 + 1 across the height: 481 → 481 × 41
   /// = 19,721 (001 §9.2), Δx = 0.125 mm.
@@ -91,20 +89,14 @@ class RodPulse final : public Problem {
     return {};
   }
 
-  AssembledSystem assemble(const Discretization&) const override {
-    throw std::logic_error("rod-pulse is transient: the runner calls simulate");
-  }
-
-  void simulate(const Method& method, Discretization d, CaseResult& r) const override {
-    const double t0 = cpu_seconds();
-    MaterialRegistry materials("material");
-    register_all_materials(materials);
+  TransientDefinition define(const Discretization& d, const TransientInputs& in) const override {
     Params mp;
     mp.set("E", kE);
     mp.set("nu", kNu);
     mp.set("plane", "strain");
-    DynamicsModel model;
-    model.material = materials.create("svk", mp);
+    TransientDefinition def;
+    DynamicsModel& model = def.model;
+    model.material = in.materials.create("svk", mp);
     model.density = kDensity;
     model.mass = lumped_masses(d.particles, kDensity,
                                p_.text("mass") == "volume" ? MassLumping::volume
@@ -115,14 +107,10 @@ class RodPulse final : public Problem {
       for (int I = 0; I < n; ++I)
         if (X.sides[I] & Side::left)
           model.prescribed.push_back({I, 0, p_.number("velocity"), p_.number("duration")});
-    ExplicitDynamics sim(method, std::move(d), std::move(model), dynamics_options(p_));
     if (gaussian_) {
-      Eigen::MatrixXd v = Eigen::MatrixXd::Zero(2, n);
-      for (int I = 0; I < n; ++I) v(0, I) = solution_(X.x(0, I), 0);
-      sim.set_particle_velocity(v);
+      def.initial_velocity = Eigen::MatrixXd::Zero(2, n);
+      for (int I = 0; I < n; ++I) def.initial_velocity(0, I) = solution_(X.x(0, I), 0);
     }
-    const StepChoice step = choose_step(sim, p_);
-    r.cpu.assembly = cpu_seconds() - t0;
 
     const double c = RodSolution::wave_speed(), transit = kLength / c;
     // Probes on the centre line: the middle and both ends.
@@ -137,47 +125,53 @@ class RodPulse final : public Problem {
     };
     const std::vector<int> probe = {nearest(0), nearest(0.5 * kLength), nearest(kLength)};
 
-    TransientPlan plan;
     const int transits = p_.integer("transits");
-    plan.end_time = transits * transit;
-    for (int k = 1; k <= transits; ++k) plan.checkpoints.push_back(k * transit);
+    def.end_time = transits * transit;
+    for (int k = 1; k <= transits; ++k) def.checkpoints.push_back(k * transit);
+    def.label = fmt::format("rod-pulse {} n={}", in.method, in.nodes);
     // The velocity error (eq 75) is the only norm measured; a checkpoint the run does not
     // reach (stopped as unstable) keeps NaN, printed "not reached".
-    r.errors = ErrorNorms::not_measured();
-    r.transient.main_error = "relative L2 velocity error ||v_h - v|| / ||v|| at t = L/c "
-                             "(001 eq 75, dimensionless)";
+    def.main_error = "relative L2 velocity error ||v_h - v|| / ||v|| at t = L/c "
+                     "(001 eq 75, dimensionless)";
+    def.notes = fmt::format("{} loading, {} masses", p_.text("loading"), p_.text("mass"));
     auto checkpoint_name = [](int k) {
       return k == 0   ? std::string("velocity error at L/c")
              : k == 1 ? std::string("velocity error at 2L/c")
                       : fmt::format("velocity error at {}L/c", k + 1);
     };
-    for (int k = 0; k < transits; ++k) r.headline[checkpoint_name(k)] = NAN;
-    plan.at_checkpoint = [&](const ExplicitDynamics& s, int k) {
+    def.at_checkpoint = [this, X, checkpoint_name](const ExplicitDynamics& s, int k,
+                                             TransientMeasures& m) {
       const double e = velocity_error(s, X);
-      r.headline[checkpoint_name(k)] = e;
-      if (k == 0) r.errors.l2_rel = r.errors.l2 = e;
+      m.headline[checkpoint_name(k)] = e;
+      if (k == 0) m.errors.l2_rel = m.errors.l2 = e;
     };
-    plan.probe_names = {"v left end", "v middle", "v right end", "exact v left end",
-                        "exact v middle", "exact v right end"};
-    plan.probes = [&](const ExplicitDynamics& s) {
+    def.probe_names = {"v left end", "v middle", "v right end", "exact v left end",
+                       "exact v middle", "exact v right end"};
+    const RodSolution solution = solution_;
+    def.probes = [X, probe, solution](const ExplicitDynamics& s) {
       const Eigen::MatrixXd v = s.particle_velocity();
       std::vector<double> out;
       for (int I : probe) out.push_back(v(0, I));
-      for (int I : probe) out.push_back(solution_(X.x(0, I), s.time()));
+      for (int I : probe) out.push_back(solution(X.x(0, I), s.time()));
       return out;
     };
-    plan.frame_data = [&](const ExplicitDynamics& s, TransientData::Frame& f) {
+    def.frame_data = [X, solution](const ExplicitDynamics& s,
+                                   std::vector<std::pair<std::string, Eigen::MatrixXd>>& data) {
+      const int n = X.size();
       Eigen::MatrixXd exact = Eigen::MatrixXd::Zero(2, n);
-      for (int I = 0; I < n; ++I) exact(0, I) = solution_(X.x(0, I), s.time());
-      f.data.emplace_back("velocity_error", s.particle_velocity() - exact);
-      f.data.emplace_back("velocity_exact", std::move(exact));
+      for (int I = 0; I < n; ++I) exact(0, I) = solution(X.x(0, I), s.time());
+      data.emplace_back("velocity_error", s.particle_velocity() - exact);
+      data.emplace_back("velocity_exact", std::move(exact));
     };
-    run_transient(sim, step.target, step.critical, plan, p_,
-                  fmt::format("rod-pulse {} n={}", r.spec.method, r.spec.nodes), r);
-    r.headline["critical step / (dx/c)"] = step.critical / (X.spacing / c);
-    r.headline["CPU minutes"] = (r.cpu.setup + r.cpu.assembly + r.cpu.solve) / 60;
-    r.transient.dynamics += fmt::format("; {} loading, {} masses", p_.text("loading"),
-                                        p_.text("mass"));
+    const double spacing = X.spacing;
+    def.finish = [transits, checkpoint_name, spacing, c](const ExplicitDynamics&,
+                                                         const TransientOutcome& out,
+                                                         TransientMeasures& m) {
+      for (int k = 0; k < transits; ++k) m.headline.try_emplace(checkpoint_name(k), NAN);
+      m.headline["critical step / (dx/c)"] = out.dt_critical / (spacing / c);
+      m.headline["CPU minutes"] = out.cpu_seconds / 60;
+    };
+    return def;
   }
 
   std::vector<PublishedValue> published() const override {
@@ -316,7 +310,6 @@ void register_rod_pulse(ProblemRegistry& r) {
       capped(ParamSpec::count("transits", 2, 1, "run to this many multiples of L/c (at most 1000)"),
              1000),
   };
-  for (auto& spec : dynamics_schema()) s.push_back(std::move(spec));
   r.add("rod-pulse",
         "free-free plane-strain rod 60 x 5 mm, Gaussian velocity or end impulse, errors at L/c "
         "and 2L/c (001 §9.2, Table 3)",

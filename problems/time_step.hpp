@@ -1,8 +1,65 @@
-/// The GRK critical time step of 004 III eq 5.2.5 ("analytic" column of its §5.2 table),
-/// defined in problems/time_step.cpp and shared by the `time-step` and `grk-bar` problems.
+/// The `time-step` problem as a definition (the 004 III §6 bar or a 2:1 plane-strain block,
+/// its supports, the masses and the kernel frame to analyse; the `time-step` analysis runs
+/// it), the tables of 004 III §5 and the GRK critical time step of eq 5.2.5 ("analytic"
+/// column of its §5.2 table), shared with the `grk-bar` problem.
 #pragma once
+#include <string>
+#include <vector>
+
+#include "dynamics/explicit.hpp"
+#include "problems/problem.hpp"
 
 namespace mfv {
+
+/// Headline values of a time-step case.
+namespace time_step_headline {
+inline constexpr const char* kLumped = "dt lumped";
+inline constexpr const char* kConsistent = "dt consistent";
+inline constexpr const char* kLumpedRatio = "dt lumped / (dx/c)";
+inline constexpr const char* kConsistentRatio = "dt consistent / (dx/c)";
+inline constexpr const char* kMassRatio = "dt consistent / dt lumped";
+
+}  // namespace time_step_headline
+
+/// 004 III §5.1 table: j, n (2s), n (3s).
+inline constexpr double kWindowTable[][3] = {{-2.2, 1.69, 2.04}, {-2, 1.80, 2.20}, {-1, 2.60, 3.39},
+                                      {0, 4.19, 5.79},    {1, 7.38, 10.57}, {2, 13.77, 20.15},
+                                      {3, 26.53, 39.30}};
+/// 004 III §5.2 table (21 nodes): j, Δt analytic (eq 5.2.5), Δt numeric.
+inline constexpr double kGrkTable[][3] = {
+    {-1, 2.456e-5, 2.432e-5}, {0, 3.473e-5, 3.223e-5}, {1, 4.912e-5, 5.651e-5}};
+
+
+/// The structure whose critical step a case computes.
+struct TimeStepDefinition {
+  static constexpr double kL = 100, kA = 1, kE = 3e7, kRho = 7.24e-4;  ///< 004 III §6 bar
+  static constexpr double kBlockE = 1, kBlockNu = 0.25, kBlockRho = 1;   ///< 2D block
+  bool block = false;            ///< the 2:1 plane-strain block (else the bar)
+  std::string mass = "both";     ///< lumped, consistent or both
+  bool fixed = true;             ///< x = 0 (bar) or the left side (block) held
+  KernelFrame frame = KernelFrame::lagrangian;
+  bool sweep = true;             ///< rkpm: Δt against j as well
+  Domain domain() const {
+    return block ? Domain::rectangle(0, 0, 1, 0.5) : Domain::interval(0, kL);
+  }
+};
+
+class TimeStepProblem final : public Problem {
+ public:
+  explicit TimeStepProblem(const Params& p);
+  const TimeStepDefinition& definition() const { return def_; }
+  Domain domain() const override { return def_.domain(); }
+  std::vector<std::string> analyses() const override { return {"time-step"}; }
+  std::vector<int> resolutions(Level level) const override {
+    if (level == Level::full) return {21, 41, 81};
+    return {21};
+  }
+  std::vector<PublishedValue> published() const override;
+  std::vector<std::string> published_notes() const override;
+
+ private:
+  TimeStepDefinition def_;
+};
 
 /// 004 III eqs 5.2.3–5.2.5 for the Gaussian window r⁻¹Φ((x−y)/r) = e^{−(x−y)²/r²}/(r√π)
 /// (eq 2.5.1) on nodes dx apart, element length l = dx, bar wave speed c:

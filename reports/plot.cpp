@@ -296,44 +296,4 @@ std::optional<std::string> write_svg_plot(const fs::path& svg_path, const PlotSp
   }
 }
 
-PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                          const std::string& ylabel,
-                          const std::function<double(const CaseResult&)>& error,
-                          const std::function<double(const Rates&)>& rate) {
-  PlotSpec spec;
-  spec.title = title;
-  spec.xlabel = "nominal particle spacing h (length unit of x)";
-  spec.ylabel = ylabel;
-  spec.logx = spec.logy = true;
-  spec.style = "linespoints";
-  double steepest = 0;
-  for (const auto& study : studies) {
-    Series s;
-    const double r = rate(study.rates);
-    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(r));
-    if (std::isfinite(r)) steepest = std::max(steepest, r);
-    for (const auto& c : study.cases) {
-      s.x.push_back(c.h);
-      s.y.push_back(error(c));
-    }
-    spec.series.push_back(std::move(s));
-  }
-  spec.reference_slopes = {1, 2};
-  const int top = static_cast<int>(std::lround(std::min(steepest, 10.0)));
-  if (top > 2) spec.reference_slopes.push_back(top);
-  return spec;
-}
-
-PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                          bool h1) {
-  if (h1)
-    return convergence_plot(
-        title, studies, "H1 seminorm error ||u_h' - u'||",
-        [](const CaseResult& c) { return c.errors.h1_semi; },
-        [](const Rates& r) { return r.h1_semi; });
-  return convergence_plot(
-      title, studies, "L2 error ||u_h - u||", [](const CaseResult& c) { return c.errors.l2; },
-      [](const Rates& r) { return r.l2; });
-}
-
 }  // namespace mfv

@@ -1,4 +1,4 @@
-/// SVG plots drawn by gnuplot (found on PATH at run time), and the convergence plot of studies.
+/// SVG plots drawn by gnuplot (found on PATH at run time).
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "verify/case.hpp"
 
 namespace mfv {
 
@@ -56,18 +55,5 @@ std::optional<std::string> write_svg_plot(const std::filesystem::path& svg_path,
 /// The gnuplot script write_svg_plot runs for `spec` (after the same filtering); empty when
 /// nothing is left to plot. For tests and for reading what a plot will show.
 std::string gnuplot_script(const PlotSpec& spec);
-
-/// A log–log plot of the error against h, one series per study, labelled
-/// "<study label> (rate 2.01)": the L2 error and rates.l2, or with `h1` the H1 seminorm
-/// error and rates.h1_semi. Errors are CaseResult::errors (the common fine rule). Reference
-/// slopes 1 and 2, and the largest fitted rate rounded when it is above 2.
-PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                          bool h1);
-
-/// The same for any norm: `error` of each case against h, labelled with `rate` of each study.
-PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
-                          const std::string& ylabel,
-                          const std::function<double(const CaseResult&)>& error,
-                          const std::function<double(const Rates&)>& rate);
 
 }  // namespace mfv

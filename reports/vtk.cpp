@@ -15,6 +15,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include "reports/atomic.hpp"
@@ -58,18 +59,6 @@ Eigen::VectorXd difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   if (a.size() == 0 || b.size() == 0) return {};
   if (a.size() != b.size()) return {};  // not reached: both were checked when added
   return a - b;
-}
-
-/// Case-wide values, so a file opened on its own still says which resolution it shows.
-void add_field_data(vtkPolyData* pd, const CaseResult& r) {
-  vtkNew<vtkDoubleArray> h;
-  h->SetName("h");
-  h->InsertNextValue(r.h);
-  pd->GetFieldData()->AddArray(h);
-  vtkNew<vtkIntArray> nodes;
-  nodes->SetName("nodes");
-  nodes->InsertNextValue(r.spec.nodes);
-  pd->GetFieldData()->AddArray(nodes);
 }
 
 /// VTK insists on a file name of its own, so it writes a temporary file that is renamed
@@ -178,85 +167,83 @@ Eigen::MatrixXd stress_tensor(const Eigen::MatrixXd& voigt) {
   return t;
 }
 
-void write_particles_vtp(const fs::path& path, const CaseResult& r) {
-  const CaseFields& f = r.fields;
-  if (f.points.size() == 0)
-    throw std::invalid_argument(fmt::format("cannot write '{}': the case has no 2D particle "
-                                            "fields",
-                                            path.string()));
-  vtkNew<vtkPolyData> pd;
-  set_points_2d(pd, f.points);
-  add_with_error(pd, "displacement", f.disp_h, f.disp_exact, path);
-  add_with_error(pd, "stress", f.stress_h, f.stress_exact, path, true);
-  add_point_array(pd, "volume", f.volume, path);
-  add_field_data(pd, r);
-  write_polydata(path, pd);
-}
 
-void write_quadrature_vtp(const fs::path& path, const CaseResult& r) {
-  const CaseFields& f = r.fields;
-  if (f.q_points.size() == 0)
-    throw std::invalid_argument(fmt::format("cannot write '{}': the case has no quadrature "
-                                            "fields",
-                                            path.string()));
-  vtkNew<vtkPolyData> pd;
-  set_points_2d(pd, f.q_points);
-  add_with_error(pd, "stress", f.q_stress_h, f.q_stress_exact, path, true);
-  Eigen::VectorXd is_particle = Eigen::VectorXd::Zero(f.q_points.cols());
-  const Eigen::Index np =
-      r.quadrature_kind == "gauss-cells" ? 0 : std::min<Eigen::Index>(r.particles, f.q_points.cols());
-  is_particle.head(np).setOnes();
-  add_point_array(pd, "is_particle", is_particle, path);
-  add_field_data(pd, r);
-  write_polydata(path, pd);
-}
+struct VtpFile::Data {
+  vtkSmartPointer<vtkPolyData> pd = vtkSmartPointer<vtkPolyData>::New();
+  std::filesystem::path path;
+};
 
-void write_case_vtp(const fs::path& path, const CaseResult& r) {
-  const auto& f = r.fields;
-  vtkNew<vtkPolyData> pd;
-  set_points(pd, f.x);
-  vtkNew<vtkCellArray> verts;
-  for (Eigen::Index i = 0; i < f.x.size(); ++i) {
-    const vtkIdType id = to_id(i);
-    verts->InsertNextCell(1, &id);
+VtpFile::VtpFile(const Eigen::MatrixXd& points, Topology topology, std::filesystem::path path)
+    : data_(std::make_unique<Data>()) {
+  data_->path = std::move(path);
+  vtkPolyData* pd = data_->pd;
+  const std::filesystem::path& file = data_->path;
+  if (topology == Topology::polyline) {
+    if (points.rows() != 1)
+      throw std::invalid_argument(fmt::format("cannot write '{}': a polyline takes 1 × n points, not {} rows", file.string(), points.rows()));
+    const Eigen::VectorXd x = points.row(0).transpose();
+    set_points(pd, x);
+    std::vector<vtkIdType> ids(static_cast<std::size_t>(x.size()));
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<vtkIdType>(i);
+    vtkNew<vtkCellArray> lines;
+    lines->InsertNextCell(to_id(x.size()), ids.data());  // one polyline
+    pd->SetLines(lines);
+  } else if (points.rows() == 1) {
+    set_points(pd, points.row(0).transpose());
+    vtkNew<vtkCellArray> verts;
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      const vtkIdType id = to_id(i);
+      verts->InsertNextCell(1, &id);
+    }
+    pd->SetVerts(verts);
+  } else {
+    set_points_2d(pd, points);
   }
-  pd->SetVerts(verts);
-  add_point_array(pd, "u_h", f.u_h, path);
-  add_point_array(pd, "u_exact", f.u_exact, path);
-  add_point_array(pd, "error", difference(f.u_h, f.u_exact), path);
-  add_point_array(pd, "du_h", f.du_h, path);
-  add_point_array(pd, "du_exact", f.du_exact, path);
-  add_point_array(pd, "du_error", difference(f.du_h, f.du_exact), path);
-  add_point_array(pd, "coefficient", f.coefficient, path);
-  add_point_array(pd, "volume", f.volume, path);
-  if (f.u_h.size() != 0) pd->GetPointData()->SetActiveScalars("u_h");
-  add_field_data(pd, r);
-  write_polydata(path, pd);
 }
 
-void write_line_vtp(const fs::path& path, const CaseResult& r) {
-  const auto& f = r.fields;
-  if (f.sx.size() < 2)
-    throw std::invalid_argument(fmt::format(
-        "cannot write '{}': the case has no dense sampling (sx has {} points)", path.string(),
-        f.sx.size()));
-  vtkNew<vtkPolyData> pd;
-  set_points(pd, f.sx);
-  std::vector<vtkIdType> ids(static_cast<std::size_t>(f.sx.size()));
-  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<vtkIdType>(i);
-  vtkNew<vtkCellArray> lines;
-  lines->InsertNextCell(to_id(f.sx.size()), ids.data());  // one polyline
-  pd->SetLines(lines);
-  add_point_array(pd, "u_h", f.su_h, path);
-  add_point_array(pd, "u_exact", f.su, path);
-  add_point_array(pd, "error", difference(f.su_h, f.su), path);
-  add_point_array(pd, "du_h", f.sdu_h, path);
-  add_point_array(pd, "du_exact", f.sdu, path);
-  add_point_array(pd, "du_error", difference(f.sdu_h, f.sdu), path);
-  if (f.su_h.size() != 0) pd->GetPointData()->SetActiveScalars("u_h");
-  add_field_data(pd, r);
-  write_polydata(path, pd);
+VtpFile::~VtpFile() = default;
+
+void VtpFile::scalars(const std::string& name, const Eigen::VectorXd& v) {
+  add_point_array(data_->pd, name.c_str(), v, data_->path);
 }
+
+void VtpFile::difference(const std::string& name, const Eigen::VectorXd& a,
+                         const Eigen::VectorXd& b) {
+  add_point_array(data_->pd, name.c_str(), mfv::difference(a, b), data_->path);
+}
+
+void VtpFile::vectors(const std::string& name, const Eigen::MatrixXd& m) {
+  add_vector_array(data_->pd, name.c_str(), m, 3, data_->path);
+}
+
+void VtpFile::tensors(const std::string& name, const Eigen::MatrixXd& voigt) {
+  add_tensor_array(data_->pd, name.c_str(), voigt, data_->path);
+}
+
+void VtpFile::with_error(const std::string& name, const Eigen::MatrixXd& computed,
+                         const Eigen::MatrixXd& exact, bool tensor) {
+  add_with_error(data_->pd, name, computed, exact, data_->path, tensor);
+}
+
+void VtpFile::active_scalars(const std::string& name) {
+  data_->pd->GetPointData()->SetActiveScalars(name.c_str());
+}
+
+void VtpFile::field(const std::string& name, double value) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name.c_str());
+  a->InsertNextValue(value);
+  data_->pd->GetFieldData()->AddArray(a);
+}
+
+void VtpFile::field(const std::string& name, int value) {
+  vtkNew<vtkIntArray> a;
+  a->SetName(name.c_str());
+  a->InsertNextValue(value);
+  data_->pd->GetFieldData()->AddArray(a);
+}
+
+void VtpFile::write() { write_polydata(data_->path, data_->pd); }
 
 void write_pvd(const fs::path& path, const std::vector<std::pair<double, std::string>>& entries) {
   std::string xml =

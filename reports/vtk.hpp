@@ -1,4 +1,5 @@
-/// VTK XML files of a case's particles and sampled solution, and ParaView collections of them.
+/// VTK XML files of particles and sampled fields (VtpFile), symmetric stress tensors in
+/// ParaView's order, and ParaView collections (.pvd). Knows nothing of cases or problems.
 #pragma once
 #include <array>
 #include <filesystem>
@@ -6,22 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "verify/case.hpp"
+#include <memory>
+
+#include <Eigen/Dense>
 
 namespace mfv {
-
-/// One vertex per particle at (x, 0, 0) with point data "u_h", "u_exact", "error"
-/// (u_h - u_exact), "du_h", "du_exact", "du_error", "coefficient", "volume", and field
-/// data "h" and "nodes". A field left empty in `r.fields` is left out (its differences
-/// too); one of another length than x throws std::invalid_argument naming it.
-/// Written atomically (temporary file, then rename); throws std::runtime_error naming the
-/// path if VTK cannot write it.
-void write_case_vtp(const std::filesystem::path& path, const CaseResult& r);
-
-/// The dense sampling r.fields.sx as one polyline with point data "u_h", "u_exact", "error",
-/// "du_h", "du_exact", "du_error", and the same field data. Throws std::invalid_argument if
-/// there is no sampling (fewer than 2 points) or its arrays differ in length.
-void write_line_vtp(const std::filesystem::path& path, const CaseResult& r);
 
 /// The component names of a symmetric tensor in ParaView's 6-component order.
 inline constexpr std::array<const char*, 6> kTensorComponents = {"XX", "YY", "ZZ",
@@ -34,17 +24,39 @@ inline constexpr std::array<const char*, 6> kTensorComponents = {"XX", "YY", "ZZ
 /// another row count.
 Eigen::MatrixXd stress_tensor(const Eigen::MatrixXd& voigt);
 
-/// 2D cases: one vertex per particle at (x, y, 0) with point data "displacement",
-/// "displacement_exact", "displacement_error" (3-vectors, z = 0, so ParaView can warp by
-/// them), "stress", "stress_exact", "stress_error" (symmetric tensors, stress_tensor, with
-/// component names XX … XZ), "volume", and field data "h" and "nodes". Throws
-/// std::invalid_argument if the case has no 2D fields.
-void write_particles_vtp(const std::filesystem::path& path, const CaseResult& r);
+/// One .vtp file of points (1 × n on the x axis, or 2 × n at (x, y, 0)) as vertices or, for
+/// a 1D sampling, one polyline; point arrays and field data are added, then `write` writes
+/// it atomically (temporary file, then rename; std::runtime_error naming the path if VTK
+/// cannot). An empty array (a field not computed) is skipped; one of another length than the
+/// points throws std::invalid_argument naming it.
+class VtpFile {
+ public:
+  enum class Topology { vertices, polyline };
+  VtpFile(const Eigen::MatrixXd& points, Topology topology, std::filesystem::path path);
+  ~VtpFile();
+  VtpFile(const VtpFile&) = delete;
+  VtpFile& operator=(const VtpFile&) = delete;
 
-/// 2D cases: one vertex per quadrature point of the method (particles first for nodal and
-/// stress-point rules, then stress points or Gauss points) with "stress", "stress_exact",
-/// "stress_error" (symmetric tensors as above) and "is_particle".
-void write_quadrature_vtp(const std::filesystem::path& path, const CaseResult& r);
+  void scalars(const std::string& name, const Eigen::VectorXd& v);
+  /// a − b, or nothing if either is missing.
+  void difference(const std::string& name, const Eigen::VectorXd& a, const Eigen::VectorXd& b);
+  /// Columns as 3-vectors (z = 0 pads 2D fields, so ParaView can warp by them).
+  void vectors(const std::string& name, const Eigen::MatrixXd& m);
+  /// Voigt stresses (3 × n) as symmetric tensors with component names XX … XZ.
+  void tensors(const std::string& name, const Eigen::MatrixXd& voigt);
+  /// `name`, `name`_exact and `name`_error (computed − exact), as vectors or tensors.
+  void with_error(const std::string& name, const Eigen::MatrixXd& computed,
+                  const Eigen::MatrixXd& exact, bool tensor = false);
+  void active_scalars(const std::string& name);
+  /// File-wide values, so a file opened on its own still says what it shows.
+  void field(const std::string& name, double value);
+  void field(const std::string& name, int value);
+  void write();
+
+ private:
+  struct Data;  // the VTK poly data, kept out of this header
+  std::unique_ptr<Data> data_;
+};
 
 /// A ParaView collection (.pvd) of (timestep, file) entries, file names relative to the
 /// .pvd's directory. Entries sharing a timestep become parts 0, 1, ... of it, so a

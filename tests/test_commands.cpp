@@ -14,7 +14,7 @@
 #include "apps/commands.hpp"
 #include "methods/core/errors.hpp"
 #include "verify/baseline.hpp"
-#include "verify/norms.hpp"
+#include "analyses/norms.hpp"
 
 namespace mfv {
 namespace {
@@ -165,7 +165,7 @@ StudyResult synthetic_study(int components, long steps) {
     r.h = h[i];
     r.particles = 10 << i;
     r.components = components;
-    r.transient.steps = steps;
+    if (steps > 0) r.data<TransientData>().steps = steps;
     r.errors.l2 = r.errors.l2_rel = std::pow(h[i], 2);          // rate 2
     r.errors.h1_semi = r.errors.h1_semi_rel = std::pow(h[i], 1);  // rate 1
     r.errors.energy = r.errors.energy_rel = std::pow(h[i], 1.5);  // rate 1.5
@@ -206,7 +206,7 @@ TEST(ConvergenceTable, ElasticityShowsTheEnergyErrorAndTransientOnlyItsMainError
 TEST(ConvergenceTable, AnalysesShowTheirMeasuredValuesNotZeroErrors) {
   StudyResult s = synthetic_study(1, 0);
   for (auto& r : s.cases) {
-    r.analysis.setup = "lattice";
+    r.data<FigureData>().setup = "lattice";
     r.headline["critical dt"] = 0.125;
   }
   const std::string t = convergence_table(s);

@@ -250,7 +250,7 @@ TEST(CriticalStep, GrkBarTable) {
   EXPECT_NEAR(r.headline.at("dt lumped") / lumped[1], 1.0, 2e-3);
   EXPECT_NEAR(r.headline.at("dt consistent") / consistent[1], 1.0, 2e-3);
   bool grk = false, window = false;
-  for (const auto& t : r.analysis.tables) grk |= t.name == "grk-table", window |= t.name == "window-nodes";
+  for (const auto& t : r.data<FigureData>().tables) grk |= t.name == "grk-table", window |= t.name == "window-nodes";
   EXPECT_TRUE(grk);
   EXPECT_TRUE(window);
 }

@@ -401,10 +401,10 @@ TEST(Dispersion, TheProblemRunsAMethodAddedInATestByName) {
   spec.nodes = 101;
   const CaseResult r = run_case(catalogue(), spec);
   EXPECT_EQ(r.headline.at("unstable"), 1);
-  ASSERT_FALSE(r.analysis.verdicts.empty());
-  EXPECT_NE(r.analysis.verdicts.front().find("tensile-unstable above"), std::string::npos);
-  ASSERT_FALSE(r.analysis.curves.empty());
-  EXPECT_EQ(r.analysis.curves.front().x.size(), 101u);
+  ASSERT_FALSE(r.data<FigureData>().verdicts.empty());
+  EXPECT_NE(r.data<FigureData>().verdicts.front().find("tensile-unstable above"), std::string::npos);
+  ASSERT_FALSE(r.data<FigureData>().curves.empty());
+  EXPECT_EQ(r.data<FigureData>().curves.front().x.size(), 101u);
 }
 
 /// Every registered method that runs on a line: without stress it is not unstable, and its

@@ -194,13 +194,13 @@ TEST_P(RodEnergy, ConservesEnergyAndPropagatesThePulse) {
   s.nodes = 61;
   s.problem_params = Params::parse("frames=0,samples=20");
   const CaseResult r = run_case(test_catalogue(), s);
-  EXPECT_GT(r.transient.steps, 20);
+  EXPECT_GT(r.data<TransientData>().steps, 20);
   // Central differences at 0.8 of the critical step: the energy balance fluctuates by about
   // 1% on this coarse lattice (0.01% at 481 × 41) and must not drift beyond that.
-  EXPECT_LT(r.headline.at("energy drift"), 2e-2) << r.transient.dynamics;
+  EXPECT_LT(r.headline.at("energy drift"), 2e-2) << r.data<TransientData>().dynamics;
   // The pulse comes back to its place: a bounded error (SPH's is large on 6 layers, 001).
   EXPECT_LT(r.headline.at("velocity error at L/c"), GetParam() == "sph" ? 0.9 : 0.1);
-  EXPECT_GT(r.transient.dt_critical, 0.9 * r.h / std::sqrt(210 / 7.8e-6));
+  EXPECT_GT(r.data<TransientData>().dt_critical, 0.9 * r.h / std::sqrt(210 / 7.8e-6));
 }
 
 INSTANTIATE_TEST_SUITE_P(Table1, RodEnergy,
@@ -217,8 +217,8 @@ TEST(RodPulse, ExactSolutionReflectsAtFreeEnds) {
   s.problem_params = Params::parse("frames=2,samples=50");
   const CaseResult g = run_case(test_catalogue(), s);
   // Mid-rod probe at t = 0 and t = L/c: the exact values are 1 (the pulse's centre).
-  const auto& h = g.transient.history;
-  const auto& cols = g.transient.history_columns;
+  const auto& h = g.data<TransientData>().history;
+  const auto& cols = g.data<TransientData>().history_columns;
   const int exact_mid = static_cast<int>(std::find(cols.begin(), cols.end(), "exact v middle") -
                                          cols.begin());
   ASSERT_LT(exact_mid, static_cast<int>(cols.size()));
@@ -230,7 +230,7 @@ TEST(RodPulse, ExactSolutionReflectsAtFreeEnds) {
   const CaseResult im = run_case(test_catalogue(), s);
   const int v_left = static_cast<int>(std::find(cols.begin(), cols.end(), "exact v left end") -
                                       cols.begin());
-  EXPECT_NEAR(im.transient.history[1][v_left], 50.0, 1e-12);
+  EXPECT_NEAR(im.data<TransientData>().history[1][v_left], 50.0, 1e-12);
   EXPECT_LT(im.headline.at("energy drift"), 2e-2);
   EXPECT_LT(im.headline.at("velocity error at L/c"), 0.5);
   // Uniform masses put too much inertia on the free edges: reflections get worse.
@@ -269,7 +269,7 @@ TEST(RodPulse, BlownUpRunStopsAsUnstableWithNoErrors) {
   s.problem_params = Params::parse("safety=1.5,frames=0,samples=20,threads=1");
   const StudyResult st = run_study(test_catalogue(), s, {61, 121});
   for (const CaseResult& r : st.cases) {
-    const TransientData& t = r.transient;
+    const TransientData& t = r.data<TransientData>();
     ASSERT_TRUE(t.instability.has_value()) << r.spec.nodes;
     EXPECT_TRUE(t.stopped_early);
     EXPECT_EQ(t.instability->step, t.steps);
@@ -299,15 +299,15 @@ TEST(RodPulse, StableRunHasNoInstabilityAndNoH1Error) {
   s.nodes = 61;
   s.problem_params = Params::parse("frames=0,samples=20,transits=1");
   const CaseResult r = run_case(test_catalogue(), s);
-  EXPECT_FALSE(r.transient.instability.has_value());
-  EXPECT_FALSE(r.transient.stopped_early);
-  EXPECT_EQ(r.transient.verdict(), "");
+  EXPECT_FALSE(r.data<TransientData>().instability.has_value());
+  EXPECT_FALSE(r.data<TransientData>().stopped_early);
+  EXPECT_EQ(r.data<TransientData>().verdict(), "");
   EXPECT_TRUE(std::isfinite(r.errors.l2_rel));
   EXPECT_EQ(r.errors.l2_rel, r.headline.at("velocity error at L/c"));
   EXPECT_TRUE(std::isnan(r.errors.h1_semi_rel));
   EXPECT_TRUE(std::isnan(r.errors.energy_rel));
-  EXPECT_NE(r.transient.main_error.find("velocity"), std::string::npos);
-  EXPECT_GT(r.transient.max_displacement, 0.0);
+  EXPECT_NE(r.data<TransientData>().main_error.find("velocity"), std::string::npos);
+  EXPECT_GT(r.data<TransientData>().max_displacement, 0.0);
 }
 
 }  // namespace

@@ -198,22 +198,22 @@ TEST(GrkBar, PlasticStressStaysOnTheHardeningCurve) {
 // peak is then a lower bound; the stable one runs to the end. Neither measures an error.
 TEST(PrestressedRod, InstabilityIsRecordedWithItsStepAndTheRunStopsEarly) {
   const CaseResult eul = rod("kbm-ni", 1.5, "eulerian", 0.1);
-  ASSERT_TRUE(eul.transient.instability.has_value());
-  EXPECT_NE(eul.transient.instability->reason.find("above 2 v0"), std::string::npos);
-  EXPECT_GT(eul.transient.instability->step, 0);
-  EXPECT_LE(eul.transient.instability->step, eul.transient.steps);
-  EXPECT_TRUE(eul.transient.stopped_early);
+  ASSERT_TRUE(eul.data<TransientData>().instability.has_value());
+  EXPECT_NE(eul.data<TransientData>().instability->reason.find("above 2 v0"), std::string::npos);
+  EXPECT_GT(eul.data<TransientData>().instability->step, 0);
+  EXPECT_LE(eul.data<TransientData>().instability->step, eul.data<TransientData>().steps);
+  EXPECT_TRUE(eul.data<TransientData>().stopped_early);
   EXPECT_EQ(eul.headline.at("run stopped early"), 1.0);
   EXPECT_NEAR(eul.headline.at("onset (transits l/c)") * 0.04 / std::sqrt(1e10 / 2450),
-              eul.transient.instability->time, 1e-15);
+              eul.data<TransientData>().instability->time, 1e-15);
   EXPECT_TRUE(std::isnan(eul.errors.l2));
 
   const CaseResult lag = rod("kbm-ni", 1.5, "lagrangian", 0.1);
-  EXPECT_FALSE(lag.transient.instability.has_value());
-  EXPECT_FALSE(lag.transient.stopped_early);
+  EXPECT_FALSE(lag.data<TransientData>().instability.has_value());
+  EXPECT_FALSE(lag.data<TransientData>().stopped_early);
   EXPECT_EQ(lag.headline.at("run stopped early"), 0.0);
   EXPECT_TRUE(std::isnan(lag.errors.l2));
-  EXPECT_TRUE(lag.transient.main_error.empty());
+  EXPECT_TRUE(lag.data<TransientData>().main_error.empty());
 }
 
 // The verdicts compare velocities with v0 and v*: a zero or negative kick or load would make
@@ -240,16 +240,16 @@ TEST(TransientVerdicts, RefuseAReferenceVelocityThatIsNotPositive) {
 // "not reached", not 0.
 TEST(GrkBar, UnstableRunLeavesItsCheckpointsNotReached) {
   const CaseResult r = bar("rkpm", grk(0), "courant=1.35");
-  ASSERT_TRUE(r.transient.instability.has_value());
-  EXPECT_NE(r.transient.instability->reason.find("v*"), std::string::npos);
-  EXPECT_TRUE(r.transient.stopped_early);
+  ASSERT_TRUE(r.data<TransientData>().instability.has_value());
+  EXPECT_NE(r.data<TransientData>().instability->reason.find("v*"), std::string::npos);
+  EXPECT_TRUE(r.data<TransientData>().stopped_early);
   for (const char* k : {"error u at 1.5 L/c", "error u at 2.5 L/c", "error stress at 2.5 L/c",
                         "error v at 2.5 L/c"})
     EXPECT_TRUE(std::isnan(r.headline.at(k))) << k;
   EXPECT_TRUE(std::isnan(r.errors.l2_rel));
   EXPECT_TRUE(std::isfinite(r.headline.at("peak velocity / v*")));
   const CaseResult ok = bar("rkpm", grk(0), "courant=1");
-  EXPECT_FALSE(ok.transient.instability.has_value());
+  EXPECT_FALSE(ok.data<TransientData>().instability.has_value());
   EXPECT_TRUE(std::isfinite(ok.errors.l2_rel));
 }
 

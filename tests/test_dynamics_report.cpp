@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
 #include "temp_files.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
@@ -38,7 +38,7 @@ StudyResult study(const std::string& problem, const std::string& method, const s
 
 std::string section_of(const std::vector<StudyResult>& studies, const fs::path& dir) {
   std::vector<ReportSection> sections;
-  for (const auto& s : studies) add_to_sections(sections, s);
+  for (const auto& s : studies) add_to_sections(test_catalogue(), sections, s);
   EXPECT_EQ(sections.size(), 1u);
   // The detail is on the problem's page; index.md gets the returned summary.
   const std::string summary =

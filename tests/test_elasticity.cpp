@@ -6,17 +6,17 @@
 #include <gtest/gtest.h>
 
 #include "methods/core/errors.hpp"
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
 #include "test_support.hpp"
-#include "verify/norms.hpp"
+#include "analyses/norms.hpp"
 #include "verify/runner.hpp"
-#include "verify/solver.hpp"
+#include "analyses/solver.hpp"
 
 namespace mfv {
 namespace {
 
 TEST(Cantilever, ExactStressIsInEquilibriumAndCarriesTheLoad) {
-  const auto p = test_catalogue().problems.create("cantilever");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("cantilever");
   // Stresses from the exact displacement gradient: σ_yy = 0, σ_xy parabolic (Timoshenko).
   Eigen::MatrixXd x(2, 3), u, g;
   x << 0.0, 24.0, 48.0, -6.0, 1.5, 3.0;
@@ -73,7 +73,7 @@ class Methods2D : public ::testing::TestWithParam<const char*> {};
 TEST_P(Methods2D, GradientTableReproducesLinearFields) {
   // 001 eqs 29, 33-34: the corrected gradients (RLM, KBM) and MLS/Q4 gradients are exact for
   // linear fields on a perturbed lattice; symmetrized SPH (eq 25) is not.
-  const auto p = test_catalogue().problems.create("elastic-patch");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");
   const auto m = test_catalogue().methods.create(GetParam());
   const Discretization d = m->discretize(p->domain(), p->particles(7, 0.3), 1);
   Eigen::MatrixXd ue, ge;
@@ -93,7 +93,7 @@ TEST_P(Methods2D, GradientTableReproducesLinearFields) {
 TEST_P(Methods2D, SymmetricExactlyWhenGalerkin) {
   // Bubnov–Galerkin forms (EFG, FEM, symmetrized SPH) give symmetric stiffness matrices; the
   // Petrov–Galerkin KBM (Shepard tests) and RLM (collocation) do not.
-  const auto p = test_catalogue().problems.create("elastic-patch");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");
   const auto m = test_catalogue().methods.create(GetParam());
   const Discretization d = m->discretize(p->domain(), p->particles(6, 0.2), 1);
   const Eigen::MatrixXd K(p->assemble(d).K);
@@ -162,9 +162,9 @@ TEST(SparseSolver, IterativeAgreesWithDirect) {
   const CaseResult direct = run_case(test_catalogue(), spec);
   spec.solver = "iterative";
   const CaseResult it = run_case(test_catalogue(), spec);
-  EXPECT_NE(it.solve.solver.find("BiCGSTAB"), std::string::npos) << it.solve.solver;
-  EXPECT_GT(direct.solve.fill, direct.solve.nonzeros / 2);
-  EXPECT_GT(direct.solve.rcond, 0);
+  EXPECT_NE(it.data<StaticSolveData>().solve.solver.find("BiCGSTAB"), std::string::npos) << it.data<StaticSolveData>().solve.solver;
+  EXPECT_GT(direct.data<StaticSolveData>().solve.fill, direct.data<StaticSolveData>().solve.nonzeros / 2);
+  EXPECT_GT(direct.data<StaticSolveData>().solve.rcond, 0);
   // The penalty (1e8 × the stiffness diagonal) makes the system ill-conditioned, so a residual
   // of 1e-12 leaves ~1e-4 relative differences in the solution (measured 2.6e-4).
   EXPECT_NEAR(it.errors.l2_rel, direct.errors.l2_rel, 2e-3 * direct.errors.l2_rel);
@@ -186,7 +186,7 @@ TEST(SparseSolver, SingularSystemsGetAClearMessage) {
 }
 
 TEST(Findings, VerdictsFollowTheMeasuredRates) {
-  const auto p = test_catalogue().problems.create("cantilever");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("cantilever");
   auto verdict_of = [&](const std::vector<StudySummary>& s, const std::string& claim_start) {
     for (const auto& f : p->findings())
       if (f.claim.rfind(claim_start, 0) == 0) return f.check(s).status;

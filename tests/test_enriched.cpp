@@ -8,7 +8,7 @@
 
 #include "methods/approximations/enriched.hpp"
 #include "methods/core/errors.hpp"
-#include "problems/enriched_bar.hpp"
+#include "stability/enriched_mass.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
 
@@ -170,8 +170,8 @@ TEST(EnrichedBar, OneDimensionalSweepFindings) {
   const double dx_over_c = 1 / std::sqrt(200e9 / 7850);
   EXPECT_GT(r.headline.at("dt no crack MLS2"), 0.5 * dx_over_c);
   EXPECT_LT(r.headline.at("dt no crack MLS2"), 4 * dx_over_c);
-  EXPECT_FALSE(r.analysis.curves.empty());
-  EXPECT_FALSE(r.analysis.tables.empty());
+  EXPECT_FALSE(r.data<FigureData>().curves.empty());
+  EXPECT_FALSE(r.data<FigureData>().tables.empty());
 }
 
 TEST(EnrichedBar, AlphaFitAndConventions) {

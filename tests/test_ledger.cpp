@@ -11,7 +11,7 @@
 #include "methods/core/errors.hpp"
 #include "problems/problem.hpp"
 #include "temp_files.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 #include "verify/ledger.hpp"
 #include "verify/manifest.hpp"
 #include "verify/runner.hpp"
@@ -38,7 +38,7 @@ bool names(const Catalogue& c, const LedgerRow& row, const std::string& problem,
     return false;
   if (!params_contain(c.methods.resolve(row.method, row.method_params), pv.method_params))
     return false;
-  const Params pp = c.problems.resolve(row.problem, row.problem_params);
+  const Params pp = resolved_case_params(c, row.problem, row.problem_params);
   for (const auto& [k, v] : pv.problem_params.values())
     if (pp.has(k) && format_value(pp.values().at(k)) != format_value(v)) return false;
   for (std::size_t i = 0; i < row.nodes.size(); ++i)
@@ -74,7 +74,7 @@ TEST(Ledger, PublishedRowsEqualTheProblemsPublishedValues) {
   int checked = 0;
   for (const auto& row : l.rows) {
     if (row.kind != LedgerRow::Kind::published) continue;
-    const auto problem = c.problems.create(row.problem, row.problem_params);
+    const auto problem = create_problem(c, row.problem, row.problem_params);
     for (std::size_t i = 0; i < row.nodes.size(); ++i) {
       bool found = false;
       for (const auto& pv : problem->published()) {
@@ -98,7 +98,7 @@ TEST(Ledger, EveryPublishedValueAndFindingIsNamedByARow) {
   const Manifest m = load_manifest(kSuite);
   const Ledger l = load_ledger(m.ledger, m, c);
   for (const auto& [name, params] : problem_instances(c, m)) {
-    const auto problem = c.problems.create(name, params);
+    const auto problem = create_problem(c, name, params);
     for (const auto& pv : problem->published()) {
       const bool named = std::any_of(l.rows.begin(), l.rows.end(),
                                      [&](const LedgerRow& r) { return names(c, r, name, pv); });

@@ -1284,9 +1284,9 @@ StudyResult transient_study(std::vector<bool> unstable_at) {
     CaseResult r;
     r.spec.nodes = nodes;
     nodes = 2 * nodes - 1;
-    r.transient.steps = 100;
-    r.transient.end_time = 0.023;
-    if (u) r.transient.instability = TransientData::Instability{9, 0.0018, "kinetic energy 2.75"};
+    r.data<TransientData>().steps = 100;
+    r.data<TransientData>().end_time = 0.023;
+    if (u) r.data<TransientData>().instability = TransientData::Instability{9, 0.0018, "kinetic energy 2.75"};
     s.cases.push_back(r);
   }
   return s;

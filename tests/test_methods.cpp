@@ -15,7 +15,7 @@ namespace {
 
 /// -u'' = 0 on [0, 1] with u = 1 + 2x: any linearly consistent Galerkin method with accurate
 /// integration reproduces it (the patch test).
-class LinearPatch final : public Problem {
+class LinearPatch final : public BoundaryValueProblem {
  public:
   Domain domain() const override { return Domain::interval(0, 1); }
   void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const override {
@@ -179,7 +179,7 @@ TEST(BoundaryConditions, PenaltyApproachesLagrange) {
   CaseSpec b{"laplace-tanh", {}, "efg", Params::parse("bc=penalty,penalty=1e9"), 41, 0};
   const CaseResult ra = run_case(test_catalogue(), a), rb = run_case(test_catalogue(), b);
   EXPECT_NEAR(ra.errors.l2, rb.errors.l2, 1e-6 * ra.errors.l2 + 1e-9);
-  EXPECT_NE(ra.solve.unknowns, rb.solve.unknowns);  // multipliers add two unknowns
+  EXPECT_NE(ra.data<StaticSolveData>().solve.unknowns, rb.data<StaticSolveData>().solve.unknowns);  // multipliers add two unknowns
 }
 
 }  // namespace

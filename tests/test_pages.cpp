@@ -1,4 +1,4 @@
-/// The readable report: the shared convergence judgement (verify/convergence.hpp), the
+/// The readable report: the shared convergence judgement (reports/convergence.hpp), the
 /// cantilever findings that use it, and the problem pages with their one-screen summaries.
 #include <cmath>
 #include <filesystem>
@@ -12,10 +12,10 @@
 #include <gtest/gtest.h>
 
 #include "reports/plot.hpp"
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
 #include "temp_files.hpp"
-#include "verify/catalogue.hpp"
-#include "verify/convergence.hpp"
+#include "apps/catalogue.hpp"
+#include "reports/convergence.hpp"
 
 namespace mfv {
 namespace {

@@ -8,12 +8,31 @@
 
 #include "problems/time_step.hpp"
 #include "test_support.hpp"
+#include "methods/core/errors.hpp"
 #include "verify/runner.hpp"
 
 namespace mfv {
 namespace {
 
-class ExactSolutions : public ::testing::TestWithParam<std::string> {};
+/// The problems a static solve runs (those declaring `static-solve`): their exact solutions.
+class ExactSolutions : public ::testing::TestWithParam<std::string> {
+ protected:
+  /// The problem as the weak form the static-solve analysis reads.
+  static std::unique_ptr<BoundaryValueProblem> problem(const std::string& name) {
+    return test_catalogue().problems.create_as<BoundaryValueProblem>(name);
+  }
+};
+
+/// Every registered problem that declares `analysis`.
+std::vector<std::string> problems_declaring(const std::string& analysis) {
+  std::vector<std::string> out;
+  for (const auto& name : test_catalogue().problems.keys()) {
+    const auto declared = test_catalogue().problems.create(name)->analyses();
+    if (std::find(declared.begin(), declared.end(), analysis) != declared.end())
+      out.push_back(name);
+  }
+  return out;
+}
 
 /// Points spread over the domain's box (a 1D line or a 2D grid), away from its edges.
 Eigen::MatrixXd interior_points(const Domain& d) {
@@ -29,9 +48,7 @@ Eigen::MatrixXd interior_points(const Domain& d) {
 }
 
 TEST_P(ExactSolutions, DerivativeMatchesFiniteDifferences) {
-  const auto p = test_catalogue().problems.create(GetParam());
-  if (p->transient()) GTEST_SKIP() << "transient problem: its exact solution is tested in test_dynamics";
-  if (p->analysis()) GTEST_SKIP() << "analysis problem: no field to solve for";
+  const auto p = problem(GetParam());
   const Domain d = p->domain();
   const Eigen::MatrixXd x = interior_points(d);
   const double e = 1e-6 * (d.upper - d.lower).maxCoeff();
@@ -53,9 +70,7 @@ TEST_P(ExactSolutions, DerivativeMatchesFiniteDifferences) {
 }
 
 TEST_P(ExactSolutions, SatisfiesItsEssentialConditions) {
-  const auto p = test_catalogue().problems.create(GetParam());
-  if (p->transient()) GTEST_SKIP() << "transient problem: its exact solution is tested in test_dynamics";
-  if (p->analysis()) GTEST_SKIP() << "analysis problem: no field to solve for";
+  const auto p = problem(GetParam());
   const auto m = test_catalogue().methods.create("fem");
   const Discretization d =
       m->discretize(p->domain(), p->particles(p->domain().dim == 1 ? 11 : 5, 0),
@@ -73,9 +88,7 @@ TEST_P(ExactSolutions, SatisfiesItsEssentialConditions) {
 TEST_P(ExactSolutions, FineFemSolvesTheStatedEquation) {
   // A consistent source and weak form make FEM converge to the exact solution; a wrong sign
   // or a garbled source (004 I eq 6.4) would leave an O(1) error.
-  const auto p = test_catalogue().problems.create(GetParam());
-  if (p->transient()) GTEST_SKIP() << "transient problem: its exact solution is tested in test_dynamics";
-  if (p->analysis()) GTEST_SKIP() << "analysis problem: no field to solve for";
+  const auto p = problem(GetParam());
   const bool line = p->domain().dim == 1;
   CaseSpec spec{GetParam(), {}, "fem", {}, line ? 2401 : 33, 0};
   const CaseResult r = run_case(test_catalogue(), spec);
@@ -85,14 +98,71 @@ TEST_P(ExactSolutions, FineFemSolvesTheStatedEquation) {
   EXPECT_LT(r.errors.h1_semi_rel, line ? 6e-2 : 5e-2);
 }
 
-INSTANTIATE_TEST_SUITE_P(AllProblems, ExactSolutions,
-                         ::testing::ValuesIn(test_catalogue().problems.keys()),
+INSTANTIATE_TEST_SUITE_P(StaticSolveProblems, ExactSolutions,
+                         ::testing::ValuesIn(problems_declaring("static-solve")),
                          [](const auto& info) {
                            std::string n = info.param;
                            for (auto& c : n)
                              if (c == '-') c = '_';
                            return n;
                          });
+
+/// Every (problem, analysis) pair a problem declares: the analysis is registered, accepts the
+/// problem (it provides the definition the analysis reads), and the problem has resolutions.
+/// A new problem or analysis is checked the moment it is registered.
+class ProblemAnalysisPairs : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+std::vector<std::pair<std::string, std::string>> declared_pairs() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& name : test_catalogue().problems.keys())
+    for (const auto& a : test_catalogue().problems.create(name)->analyses())
+      out.emplace_back(name, a);
+  return out;
+}
+
+TEST_P(ProblemAnalysisPairs, AnalysisIsRegisteredAndAcceptsTheProblem) {
+  const auto& [name, analysis] = GetParam();
+  ASSERT_TRUE(test_catalogue().analyses.contains(analysis))
+      << name << " declares the unregistered analysis " << analysis;
+  const auto p = test_catalogue().problems.create(name);
+  EXPECT_TRUE(test_catalogue().analyses.create(analysis)->accepts(*p))
+      << analysis << " cannot read problem " << name;
+  for (Level level : {Level::quick, Level::standard, Level::full})
+    EXPECT_FALSE(p->resolutions(level).empty()) << name;
+  // The problem's defaults for the analysis are parameters the analysis knows.
+  EXPECT_NO_THROW(test_catalogue().analyses.resolve(analysis, p->analysis_defaults(analysis)));
+}
+
+TEST_P(ProblemAnalysisPairs, ACaseNamingAnotherAnalysisIsRefused) {
+  const auto& [name, analysis] = GetParam();
+  for (const auto& other : test_catalogue().analyses.keys()) {
+    const auto declared = test_catalogue().problems.create(name)->analyses();
+    if (std::find(declared.begin(), declared.end(), other) != declared.end()) continue;
+    CaseSpec spec;
+    spec.problem = name;
+    spec.method = "fem";
+    spec.analysis = other;
+    try {
+      resolve_case(test_catalogue(), spec);
+      ADD_FAILURE() << name << " ran under the undeclared analysis " << other;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("has no analysis"), std::string::npos) << e.what();
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllDeclared, ProblemAnalysisPairs, ::testing::ValuesIn(declared_pairs()),
+                         [](const auto& info) {
+                           std::string n = info.param.first + "__" + info.param.second;
+                           for (auto& c : n)
+                             if (c == '-') c = '_';
+                           return n;
+                         });
+
+TEST(Analyses, EveryRegisteredAnalysisIsDeclaredByAProblem) {
+  for (const auto& a : test_catalogue().analyses.keys())
+    EXPECT_FALSE(problems_declaring(a).empty()) << "no problem declares " << a;
+}
 
 TEST(Problems, AdvectionCaseIsStable) {
   // a = 1000 on 241 nodes: element Péclet number 12.5, boundary layer of width 1/a = 0.001
@@ -102,11 +172,11 @@ TEST(Problems, AdvectionCaseIsStable) {
   pp.set("a", 1000.0);
   CaseSpec spec{"advection-diffusion", pp, "fem", {}, 241, 0};
   const CaseResult r = run_case(test_catalogue(), spec);
-  const Eigen::VectorXd err = r.fields.u_h - r.fields.u_exact;
+  const Eigen::VectorXd err = r.data<StaticSolveData>().fields.u_h - r.data<StaticSolveData>().fields.u_exact;
   const Eigen::Index n = err.size();
   double away = 0;
   for (Eigen::Index i = 0; i + 2 < n; ++i) away = std::max(away, std::abs(err[i]));
-  EXPECT_LT(away, 0.05 * r.fields.u_exact.cwiseAbs().maxCoeff()) << "nodal error off the layer";
+  EXPECT_LT(away, 0.05 * r.data<StaticSolveData>().fields.u_exact.cwiseAbs().maxCoeff()) << "nodal error off the layer";
   // No node-to-node oscillation: the error does not alternate in sign over the last nodes.
   int alternations = 0;
   for (Eigen::Index i = n - 12; i + 1 < n - 1; ++i)
@@ -143,7 +213,7 @@ TEST(Problems, SphGalerkinEndSlopeIsWrongAndTheCorrectedKernelsIsRight) {
 /// The Fig. 3 finding's verdict from study summaries: both windows wrong and one corrected
 /// kernel right is "reproduced"; anything less says so.
 TEST(Problems, Fig3FindingVerdictFollowsTheMeasuredEndSlopes) {
-  const auto problem = test_catalogue().problems.create("laplace-tanh", {});
+  const auto problem = test_catalogue().problems.create_as<BoundaryValueProblem>("laplace-tanh", {});
   const auto findings = problem->findings();
   const auto f = std::find_if(findings.begin(), findings.end(), [](const Finding& x) {
     return x.id == "sph-galerkin-boundary-gradient";

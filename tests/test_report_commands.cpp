@@ -10,7 +10,7 @@
 #include "methods/core/errors.hpp"
 #include "reports/atomic.hpp"
 #include "tests/temp_files.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 
 namespace mfv {
 namespace {

@@ -21,6 +21,8 @@
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
+#include "analyses/case_vtk.hpp"
+#include "analyses/report_section.hpp"
 #include "reports/vtk.hpp"
 
 // VTK's include directories reach this test only if mfv_reports exports them; without them
@@ -107,7 +109,7 @@ CaseResult five_particle_case() {
   r.spec.nodes = 5;
   r.h = 0.25;
   r.particles = 5;
-  auto& f = r.fields;
+  auto& f = r.data<StaticSolveData>().fields;
   f.x = Eigen::VectorXd::LinSpaced(5, 0.0, 1.0);
   f.u_exact = f.x.array().square();
   f.u_h = f.u_exact.array() + 0.01;
@@ -424,7 +426,7 @@ TEST(Vtk, CaseFileHasParticlesAndArrays) {
   vtkDataArray* error = pd->GetPointData()->GetArray("error");
   ASSERT_NE(error, nullptr);
   for (vtkIdType i = 0; i < 5; ++i) {
-    EXPECT_DOUBLE_EQ(pd->GetPoint(i)[0], r.fields.x[i]);
+    EXPECT_DOUBLE_EQ(pd->GetPoint(i)[0], r.data<StaticSolveData>().fields.x[i]);
     EXPECT_NEAR(error->GetTuple1(i), 0.01, 1e-15);
   }
   vtkDataArray* h = pd->GetFieldData()->GetArray("h");
@@ -436,7 +438,7 @@ TEST(Vtk, CaseFileHasParticlesAndArrays) {
 TEST(Vtk, CaseFileRejectsMismatchedField) {
   TempDir dir;
   auto r = five_particle_case();
-  r.fields.volume.resize(4);
+  r.data<StaticSolveData>().fields.volume.resize(4);
   const auto file = dir.path() / "case.vtp";
   EXPECT_THROW(write_case_vtp(file, r), std::invalid_argument);
   EXPECT_FALSE(fs::exists(file));
@@ -461,7 +463,7 @@ TEST(Vtk, LineFileIsOnePolyline) {
   EXPECT_EQ(pd->GetCell(0)->GetNumberOfPoints(), 9);
 #endif
   CaseResult no_sampling = five_particle_case();
-  no_sampling.fields.sx.resize(0);
+  no_sampling.data<StaticSolveData>().fields.sx.resize(0);
   EXPECT_THROW(write_line_vtp(dir.path() / "none.vtp", no_sampling), std::invalid_argument);
 }
 

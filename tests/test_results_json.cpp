@@ -13,7 +13,7 @@
 
 #include "apps/commands.hpp"
 #include "temp_files.hpp"
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 #include "verify/results_json.hpp"
 
 namespace mfv {
@@ -82,8 +82,8 @@ TEST(ResultsJson, NonFiniteNumbersAreNullWithAReason) {
   r.h = 0.3;
   r.errors.l2 = 1e-3;
   r.errors.l2_rel = std::numeric_limits<double>::infinity();
-  r.solve.solver = "UMFPACK LU";
-  r.solve.condition = NAN;
+  r.data<StaticSolveData>().solve.solver = "UMFPACK LU";
+  r.data<StaticSolveData>().solve.condition = NAN;
   r.headline["peak du/dx at x=3"] = NAN;
   s.cases.push_back(r);
   s.rates.l2 = NAN;  // one resolution: no rate
@@ -109,14 +109,14 @@ TEST(ResultsJson, ErrorsATransientOrAnalysisRunDoesNotMeasureAreNullNotZero) {
   r.spec.problem = "rod-pulse";
   r.spec.method = "sph";
   r.spec.nodes = 121;
-  r.transient.steps = 10;
+  r.data<TransientData>().steps = 10;
   r.errors.l2_rel = 0.05;  // the velocity error; every other norm stays at its default 0
   transient.cases.push_back(r);
   CaseResult a;
   a.spec.problem = "time-step";
   a.spec.method = "fem";
   a.spec.nodes = 21;
-  a.analysis.setup = "bar";
+  a.data<FigureData>().setup = "bar";
   analysis.cases.push_back(a);
   const json doc =
       json::parse(results_json(c, RunInfo{"compare", "t", 2, 1, 1}, {transient, analysis}, {}));

@@ -23,8 +23,8 @@ CaseResult run_map(const std::string& problem_params) {
   return run_case(test_catalogue(), spec);
 }
 
-const AnalysisData::Table& map_table(const CaseResult& r) {
-  for (const auto& t : r.analysis.tables)
+const FigureData::Table& map_table(const CaseResult& r) {
+  for (const auto& t : r.data<FigureData>().tables)
     if (t.name == "stretch-map") return t;
   throw std::logic_error("no stretch-map table");
 }
@@ -75,7 +75,7 @@ TEST(StretchMap, LagrangianKernelAgreesWithThePde) {
   EXPECT_EQ(state(r, 0.5, 0.5)[3], 1);
   // Figures: the PDE map and one per frame, drawn as points.
   int figures = 0;
-  for (const auto& f : r.analysis.figures) {
+  for (const auto& f : r.data<FigureData>().figures) {
     EXPECT_EQ(f.style, "points");
     ++figures;
   }

@@ -1,6 +1,6 @@
 /// Shared helpers of the numerical tests: the catalogue with the example kernel, particle sets.
 #pragma once
-#include "verify/catalogue.hpp"
+#include "apps/catalogue.hpp"
 
 namespace mfv {
 

@@ -31,6 +31,8 @@
 #include "reports/plot.hpp"
 #include "reports/progress.hpp"
 #include "reports/time_series.hpp"
+#include "analyses/case_vtk.hpp"
+#include "analyses/report_section.hpp"
 #include "reports/vtk.hpp"
 
 namespace fs = std::filesystem;
@@ -156,7 +158,7 @@ TEST(VtkStress, StaticWritersWriteNamedSymmetricTensors) {
   r.h = 1;
   r.particles = 3;
   r.quadrature_kind = "nodal";
-  CaseFields& f = r.fields;
+  CaseFields& f = r.data<StaticSolveData>().fields;
   f.points.resize(2, 3);
   f.points << 0, 1, 2,  //
       0, 0, 1;

@@ -34,7 +34,7 @@ const VciCase kCases[] = {{"kbm-si", 0.0}, {"kbm-si", 0.3}, {"kbm-ni", 0.0},
 class Vci : public ::testing::TestWithParam<VciCase> {};
 
 Discretization discretize(const char* method, const char* params, double perturbation) {
-  const auto p = test_catalogue().problems.create("elastic-patch");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");
   const auto m = test_catalogue().methods.create(method, Params::parse(params));
   return m->discretize(p->domain(), p->particles(7, perturbation), 1);
 }
@@ -84,7 +84,7 @@ TEST(VciMethod, KeepsTheDivergenceIdentityOnCellRulesAndCollocation) {
 }
 
 TEST(VciMethod, RefusesEulerianRetabulation) {
-  const auto p = test_catalogue().problems.create("elastic-patch");
+  const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");
   const auto m = test_catalogue().methods.create("kbm-si", Params::parse("vci=true"));
   Discretization d = m->discretize(p->domain(), p->particles(5, 0), 1);
   EXPECT_THROW(m->retabulate(d, 1), InputError);

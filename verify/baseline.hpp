@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "verify/case.hpp"
+#include "analyses/case.hpp"
 
 namespace mfv {
 

@@ -8,8 +8,8 @@
 #include <toml++/toml.h>
 
 #include "methods/core/errors.hpp"
-#include "reports/study_report.hpp"
-#include "verify/catalogue.hpp"
+#include "analyses/report_section.hpp"
+#include "analyses/analysis.hpp"
 #include "verify/manifest.hpp"
 
 namespace mfv {
@@ -128,11 +128,11 @@ const ManifestCase* find_case(const Manifest& m, const std::string& id) {
 
 /// The published values a row names: at least one per node count with the row's value (two
 /// sources may print the same number), and the row's tolerance (throws otherwise).
-void check_published(const Reporter& r, const LedgerRow& row, const Catalogue& catalogue) {
-  const auto problem = catalogue.problems.create(row.problem, row.problem_params);
+void check_published(const Reporter& r, const LedgerRow& row, const Registries& catalogue) {
+  const auto problem = create_problem(catalogue, row.problem, row.problem_params);
   const Params resolved = catalogue.methods.resolve(row.method, row.method_params);
   // Resolved, so that a case leaving dim at its default 1 does not match dim = 2's values.
-  const Params problem_resolved = catalogue.problems.resolve(row.problem, row.problem_params);
+  const Params problem_resolved = resolved_case_params(catalogue, row.problem, row.problem_params);
   const auto all = problem->published();
   for (std::size_t i = 0; i < row.nodes.size(); ++i) {
     std::vector<const PublishedValue*> found;
@@ -252,7 +252,7 @@ double our_published_value(const CaseResult& r, const std::string& quantity) {
 }
 
 Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
-                   const Catalogue& catalogue) {
+                   const Registries& catalogue) {
   const Reporter r(path.string());
   const std::string text = detail::read_text_file(path, "ledger", "check the manifest's "
                                                   "[suite] ledger = \"...\" path");
@@ -401,7 +401,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
       row.finding = finding.substr(colon + 1);
       if (catalogue.problems.contains(row.problem)) {
         try {
-          catalogue.problems.create(row.problem, row.problem_params);
+          create_problem(catalogue, row.problem, row.problem_params);
         } catch (const InputError& e) {
           r.fail(row.line, e.what(), "fix the row's problem_params");
         }
@@ -422,7 +422,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
   return ledger;
 }
 
-std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& catalogue,
+std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries& catalogue,
                                          const Manifest& manifest,
                                          const std::map<std::string, CaseOutcome>& ran) {
   std::vector<LedgerEntry> out;
@@ -500,7 +500,7 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
           e.why = fmt::format("the catalogue has no problem '{}' yet", row.problem);
           break;
         }
-        const auto problem = catalogue.problems.create(row.problem, row.problem_params);
+        const auto problem = create_problem(catalogue, row.problem, row.problem_params);
         const auto findings = problem->findings();
         const auto f = std::find_if(findings.begin(), findings.end(),
                                     [&](const Finding& x) { return x.id == row.finding; });
@@ -513,7 +513,7 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& 
         std::vector<StudyResult> studies;
         for (const auto& mc : manifest.cases) {
           if (mc.problem != row.problem) continue;
-          if (!params_match(catalogue.problems.resolve(mc.problem, mc.problem_params),
+          if (!params_match(resolved_case_params(catalogue, mc.problem, mc.problem_params),
                             row.problem_params))
             continue;
           const auto it = ran.find(mc.id);

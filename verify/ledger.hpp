@@ -44,15 +44,15 @@
 #include <vector>
 
 #include "methods/core/params.hpp"
-#include "verify/case.hpp"
-#include "verify/comparison.hpp"
+#include "analyses/case.hpp"
+#include "problems/comparison.hpp"
 
 namespace mfv {
 
-class Catalogue;
+struct Registries;
 struct Manifest;
 
-/// Verdict words the ledger adds to verify/comparison.hpp's.
+/// Verdict words the ledger adds to problems/comparison.hpp's.
 inline constexpr const char* kNotRun = "not run";  ///< its case did not run in this invocation
 
 /// The verdicts in the order the summary counts them.
@@ -88,7 +88,7 @@ struct Ledger {
 /// Reads and checks a ledger against the manifest (every case it names exists) and the
 /// catalogue (every published value it names exists with that value and tolerance).
 Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
-                   const Catalogue& catalogue);
+                   const Registries& catalogue);
 
 /// What one manifest case did in this invocation.
 struct CaseOutcome {
@@ -109,7 +109,7 @@ struct LedgerEntry {
 
 /// Evaluates every row on the cases that ran (`ran`: case id → outcome; a case absent from
 /// it did not run in this invocation).
-std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Catalogue& catalogue,
+std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries& catalogue,
                                          const Manifest& manifest,
                                          const std::map<std::string, CaseOutcome>& ran);
 

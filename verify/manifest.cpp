@@ -222,7 +222,7 @@ bool has_whitespace(const std::string& s) {
 ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   static const std::vector<std::string> kKeys = {
       "id",    "problem",    "problem_params", "method", "method_params", "nodes",
-      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance", "expect"};
+      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance", "expect", "analysis"};
   ManifestCase c;
   c.line = line_of(t);
   c.id = get_string(r, require(r, t, "id", "[[case]]", "id = \"laplace-tanh/fem\""), "id");
@@ -234,6 +234,7 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   c.problem = get_string(r, require(r, t, "problem", where, "problem = \"laplace-tanh\""),
                          "problem");
   c.method = get_string(r, require(r, t, "method", where, "method = \"fem\""), "method");
+  if (auto n = t.get("analysis")) c.analysis = get_string(r, *n, "analysis");
   c.nodes = get_nodes(r, require(r, t, "nodes", where, "nodes = [21, 41, 81]"), "nodes");
   c.full_nodes = t.get("full_nodes") ? get_nodes(r, *t.get("full_nodes"), "full_nodes") : c.nodes;
   if (auto n = t.get("problem_params")) c.problem_params = get_params(r, *n, "problem_params");
@@ -498,7 +499,7 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
 std::vector<std::string> check_stability(const ManifestCase& c, const StudyResult& s) {
   std::vector<std::string> out;
   const bool transient = std::any_of(s.cases.begin(), s.cases.end(),
-                                     [](const CaseResult& r) { return r.transient.steps > 0; });
+                                     [](const CaseResult& r) { return r.find<TransientData>() != nullptr; });
   if (!transient) {
     if (c.expect_unstable)
       out.push_back(fmt::format("{}: expect = \"unstable\" applies to transient runs; problem '{}' "
@@ -507,7 +508,7 @@ std::vector<std::string> check_stability(const ManifestCase& c, const StudyResul
     return out;
   }
   for (const CaseResult& r : s.cases) {
-    const TransientData& t = r.transient;
+    const TransientData& t = r.data<TransientData>();
     if (t.instability && !c.expect_unstable)
       out.push_back(fmt::format("{}: {} nodes: {}", c.id, r.spec.nodes, t.verdict()));
     else if (!t.instability && c.expect_unstable)

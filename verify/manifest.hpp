@@ -17,6 +17,7 @@
 //   id = "laplace-tanh/fem"                   # required, unique, no white space (a CTest name)
 //   problem = "laplace-tanh"                  # required
 //   problem_params = { s = 10 }               # optional
+//   analysis = "static-solve"                 # optional: the problem's first declared
 //   method = "fem"                            # required
 //   method_params = { quad = 10 }             # optional
 //   nodes = [21, 41, 81, 161]                 # required: increasing integers >= 2
@@ -28,7 +29,7 @@
 //                                             # carry round-off)
 //   expect = "unstable"                       # optional, "stable" (default) or "unstable":
 //                                             # transient runs only. A run that blows up (see
-//                                             # problems/transient.hpp: non-finite fields,
+//                                             # analyses/transient.hpp: non-finite fields,
 //                                             # kinetic energy above 1e4 × the energy put in,
 //                                             # or the problem's own criterion) fails the case
 //                                             # with "unstable at step k, t = …" unless the case
@@ -56,7 +57,7 @@
 #include <vector>
 
 #include "methods/core/params.hpp"
-#include "verify/case.hpp"
+#include "analyses/case.hpp"
 
 namespace mfv {
 
@@ -70,6 +71,8 @@ struct Band {
 struct ManifestCase {
   std::string id, problem, method;
   Params problem_params, method_params;
+  /// The analysis that runs the case; empty: the problem's default (its first declared).
+  std::string analysis;
   std::vector<int> nodes, full_nodes;
   double perturbation = 0;
   std::vector<std::string> labels;

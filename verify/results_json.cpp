@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "reports/study_report.hpp"
-#include "verify/catalogue.hpp"
+#include "analyses/report_section.hpp"
+#include "analyses/analysis.hpp"
 
 namespace mfv {
 
@@ -54,8 +54,8 @@ std::string token(const std::string& s) {
 enum class Measured { static_solve, transient, analysis };
 
 Measured measured(const CaseResult& r) {
-  if (r.transient.steps > 0) return Measured::transient;
-  if (!r.analysis.empty()) return Measured::analysis;
+  if (r.find<TransientData>()) return Measured::transient;
+  if (r.find<FigureData>()) return Measured::analysis;
   return Measured::static_solve;
 }
 
@@ -113,14 +113,15 @@ bool contains_params(const Params& resolved, const Params& wanted) {
 }
 
 /// The problem's published values this study measures, each with ours and the verdict of
-/// verify/comparison.hpp under the value's own tolerance.
-json published_json(const Catalogue& catalogue, const StudyResult& study, const std::string& at,
+/// problems/comparison.hpp under the value's own tolerance.
+json published_json(const Registries& catalogue, const StudyResult& study, const std::string& at,
                     JsonNumbers& n) {
   json out = json::array();
   const CaseResult& first = study.cases.front();
   if (!catalogue.problems.contains(first.spec.problem)) return out;
-  const auto problem = catalogue.problems.create(first.spec.problem, first.spec.problem_params);
-  const Params pp = catalogue.problems.resolve(first.spec.problem, first.spec.problem_params);
+  const auto problem = create_problem(catalogue, first.spec.problem, first.spec.problem_params);
+  const Params pp = resolved_case_params(catalogue, first.spec.problem, first.spec.problem_params,
+                                         first.analysis);
   for (const auto& pv : problem->published()) {
     if (pv.method != first.spec.method || !contains_params(first.method_params, pv.method_params))
       continue;
@@ -148,7 +149,7 @@ json published_json(const Catalogue& catalogue, const StudyResult& study, const 
 }
 
 /// Every finding of the studies' problems, checked on those studies.
-json findings_json(const Catalogue& catalogue, const std::vector<StudyResult>& studies) {
+json findings_json(const Registries& catalogue, const std::vector<StudyResult>& studies) {
   json out = json::array();
   std::vector<std::string> problems;
   for (const auto& s : studies)
@@ -164,7 +165,7 @@ json findings_json(const Catalogue& catalogue, const std::vector<StudyResult>& s
         if (mine.empty()) params = s.cases.front().spec.problem_params;
         mine.push_back(s);
       }
-    const auto problem = catalogue.problems.create(name, params);
+    const auto problem = create_problem(catalogue, name, params);
     for (const auto& f : problem->findings()) {
       const Verdict v = f.check(summarize(mine));
       out.push_back({{"problem", name},
@@ -189,7 +190,7 @@ json run_json(const RunInfo& run) {
 
 }  // namespace
 
-json study_json(const Catalogue& catalogue, const StudyResult& study, const std::string& at,
+json study_json(const Registries& catalogue, const StudyResult& study, const std::string& at,
                 JsonNumbers& n) {
   json out = json::object();
   out["label"] = study.label;
@@ -204,8 +205,8 @@ json study_json(const Catalogue& catalogue, const StudyResult& study, const std:
   out["dim"] = first.dim;
   out["components"] = comps;
   out["resolution_name"] = catalogue.problems.contains(first.spec.problem)
-                               ? catalogue.problems.create(first.spec.problem,
-                                                           first.spec.problem_params)
+                               ? create_problem(catalogue, first.spec.problem,
+                                                first.spec.problem_params)
                                      ->resolution_name()
                                : "nodes";
   out["perturbation"] = first.spec.perturbation;
@@ -229,23 +230,24 @@ json study_json(const Catalogue& catalogue, const StudyResult& study, const std:
                           {"assembly", n.number(r.cpu.assembly, p + "/cpu_seconds/assembly", "not timed")},
                           {"solve", n.number(r.cpu.solve, p + "/cpu_seconds/solve", "not timed")},
                           {"total", n.number(r.cpu.total(), p + "/cpu_seconds/total", "not timed")}};
-    if (!r.solve.solver.empty())
-      res["solver"] = {{"name", r.solve.solver},
-                       {"unknowns", r.solve.unknowns},
-                       {"nonzeros", r.solve.nonzeros},
-                       {"residual", n.number(r.solve.residual, p + "/solver/residual", "no solve")},
-                       {"rcond", n.number(r.solve.rcond, p + "/solver/rcond", "not estimated by this solver")},
-                       {"condition", n.number(r.solve.condition, p + "/solver/condition",
+    if (const StaticSolveData* st = r.find<StaticSolveData>(); st && !st->solve.solver.empty())
+      res["solver"] = {{"name", st->solve.solver},
+                       {"unknowns", st->solve.unknowns},
+                       {"nonzeros", st->solve.nonzeros},
+                       {"residual", n.number(st->solve.residual, p + "/solver/residual", "no solve")},
+                       {"rcond", n.number(st->solve.rcond, p + "/solver/rcond", "not estimated by this solver")},
+                       {"condition", n.number(st->solve.condition, p + "/solver/condition",
                                              "not computed (dense SVD only up to 1,200 "
                                              "unknowns) or singular")}};
-    if (r.transient.steps > 0)
-      res["transient"] = {{"dt", n.number(r.transient.dt, p + "/transient/dt", "no step")},
+    if (const TransientData* t = r.find<TransientData>())
+      res["transient"] = {{"dt", n.number(t->dt, p + "/transient/dt", "no step")},
                           {"dt_critical",
-                           n.number(r.transient.dt_critical, p + "/transient/dt_critical", "not estimated")},
-                          {"end_time", n.number(r.transient.end_time, p + "/transient/end_time", "not reached")},
-                          {"steps", r.transient.steps},
-                          {"dynamics", r.transient.dynamics}};
-    res["verdicts"] = r.analysis.verdicts;
+                           n.number(t->dt_critical, p + "/transient/dt_critical", "not estimated")},
+                          {"end_time", n.number(t->end_time, p + "/transient/end_time", "not reached")},
+                          {"steps", t->steps},
+                          {"dynamics", t->dynamics}};
+    const FigureData* fig = r.find<FigureData>();
+    res["verdicts"] = fig ? fig->verdicts : std::vector<std::string>{};
     resolutions.push_back(std::move(res));
   }
   out["resolutions"] = std::move(resolutions);
@@ -256,7 +258,7 @@ json study_json(const Catalogue& catalogue, const StudyResult& study, const std:
   return out;
 }
 
-std::string results_json(const Catalogue& catalogue, const RunInfo& run,
+std::string results_json(const Registries& catalogue, const RunInfo& run,
                          const std::vector<StudyResult>& studies,
                          const std::vector<std::string>& failures) {
   JsonNumbers n;
@@ -333,7 +335,7 @@ std::string ledger_json_text(const Ledger& ledger, const std::vector<LedgerEntry
   return doc.dump(1) + "\n";
 }
 
-std::string verify_results_json(const Catalogue& catalogue, const RunInfo& run,
+std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
                                 const std::string& suite, const std::string& manifest,
                                 bool full, const std::vector<VerifyCaseJson>& cases,
                                 const Ledger* ledger, const std::vector<LedgerEntry>& entries) {

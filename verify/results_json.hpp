@@ -6,12 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "verify/case.hpp"
+#include "analyses/case.hpp"
 #include "verify/ledger.hpp"
 
 namespace mfv {
 
-class Catalogue;
+struct Registries;
 
 inline constexpr const char* kResultsSchema = "mfv-results-1";
 inline constexpr const char* kLedgerSchema = "mfv-ledger-1";
@@ -42,12 +42,12 @@ struct RunInfo {
 /// One study: parameters, per-resolution errors by norm name (common and paper rules), rates
 /// by norm name (least squares and pairwise), CPU seconds, headline values and the analysis
 /// verdicts. `pointer` is where it sits in the document (for "nulls").
-nlohmann::json study_json(const Catalogue& catalogue, const StudyResult& study,
+nlohmann::json study_json(const Registries& catalogue, const StudyResult& study,
                           const std::string& pointer, JsonNumbers& numbers);
 
 /// results.json of `mfv study` / `compare` / `analyse`: the studies and the failures
 /// ("label: message").
-std::string results_json(const Catalogue& catalogue, const RunInfo& run,
+std::string results_json(const Registries& catalogue, const RunInfo& run,
                          const std::vector<StudyResult>& studies,
                          const std::vector<std::string>& failures);
 
@@ -69,7 +69,7 @@ struct VerifyCaseJson {
 
 /// results.json of `mfv verify`: suite, regression summary, every case with its study, and the
 /// ledger (when the suite has one; `ledger` null otherwise).
-std::string verify_results_json(const Catalogue& catalogue, const RunInfo& run,
+std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
                                 const std::string& suite, const std::string& manifest,
                                 bool full, const std::vector<VerifyCaseJson>& cases,
                                 const Ledger* ledger, const std::vector<LedgerEntry>& entries);

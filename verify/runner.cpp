@@ -2,238 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
-#include <limits>
 
-#include <Eigen/SVD>
 #include <fmt/format.h>
 
+#include "analyses/norms.hpp"
 #include "methods/core/errors.hpp"
-#include "verify/norms.hpp"
-#include "verify/solver.hpp"
 
 namespace mfv {
-
-double cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double condition_number(const Eigen::SparseMatrix<double>& A) {
-  if (A.rows() > kMaxConditionSize) return std::numeric_limits<double>::quiet_NaN();
-  const Eigen::VectorXd sv = Eigen::BDCSVD<Eigen::MatrixXd>(Eigen::MatrixXd(A)).singularValues();
-  return sv[sv.size() - 1] > 0 ? sv[0] / sv[sv.size() - 1]
-                               : std::numeric_limits<double>::infinity();
-}
-
-Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretization& d,
-                                  SolveInfo& info, Eigen::SparseMatrix<double>* solved,
-                                  const std::string& solver) {
-  const int n = static_cast<int>(sys.K.rows());
-  const int nc = sys.components;
-  const int nb = static_cast<int>(sys.constraint_values.size());
-  // G_(J·nc + c, b) = N_J(x_b) for the component c of constraint b; for particle-value methods
-  // (SPH, RLM) the constraint fixes the particle's own unknown.
-  ShapeTable g;
-  if (d.particle_values) {
-    std::vector<int> at = sys.constraint_particles;
-    if (at.empty())
-      for (int bq = 0; bq < nb; ++bq) {
-        // The particle sitting on the constraint point (1D ends).
-        int found = -1;
-        for (int J = 0; J < d.particles.size() && found < 0; ++J)
-          if ((d.particles.x.col(J) - sys.constraint_points.col(bq)).norm() <=
-              1e-12 * (1 + sys.constraint_points.col(bq).norm()))
-            found = J;
-        if (found < 0)
-          throw InputError(fmt::format(
-              "{} fixes particle values, but no particle lies on the essential boundary point "
-              "{}: use a particle set with particles on the boundary",
-              d.description, bq));
-        at.push_back(found);
-      }
-    for (int b = 0; b < nb; ++b) {
-      g.index.push_back(at[b]);
-      g.value.push_back(1.0);
-      g.offsets.push_back(g.entries());
-    }
-  } else {
-    g = d.trial_at(sys.constraint_points, 0);
-  }
-  // Petrov–Galerkin: the reactions enter the test equations through the test functions
-  // (∫ δu·λ dΓ with δu = Σ Ψ_I δu_I), the constraints act on the trial field.
-  const bool petrov = !d.particle_values && d.form == Form::petrov_galerkin;
-  const ShapeTable gt = petrov ? d.test->evaluate(d.particles, sys.constraint_points, 0) : g;
-  auto comp = [&](int b) { return sys.constraint_components.empty() ? 0 : sys.constraint_components[b]; };
-  using Trip = Eigen::Triplet<double>;
-  std::vector<Trip> trip;
-  Eigen::SparseMatrix<double> A;
-  // The largest stiffness diagonal: the scale of the constraint rows and of the penalty.
-  const double kmax = n > 0 ? sys.K.diagonal().cwiseAbs().maxCoeff() : 0.0;
-  Eigen::VectorXd b;
-  if (d.essential == EssentialBC::lagrange || d.particle_values) {
-    // [K G; Gᵀ 0] [u; λ] = [f; g]: λ_b is the reaction at x_b.
-    A.resize(n + nb, n + nb);
-    trip.reserve(sys.K.nonZeros() + 2 * g.entries());
-    for (int k = 0; k < sys.K.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(sys.K, k); it; ++it)
-        trip.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
-    // Scale the constraint rows like the stiffness so the pivots stay balanced.
-    const double s = kmax > 0 ? kmax : 1.0;
-    for (int bq = 0; bq < nb; ++bq) {
-      for (int k = g.offsets[bq]; k < g.offsets[bq + 1]; ++k)
-        trip.emplace_back(n + bq, g.index[k] * nc + comp(bq), s * g.value[k]);
-      for (int k = gt.offsets[bq]; k < gt.offsets[bq + 1]; ++k)
-        trip.emplace_back(gt.index[k] * nc + comp(bq), n + bq, s * gt.value[k]);
-    }
-    A.setFromTriplets(trip.begin(), trip.end());
-    b.resize(n + nb);
-    b << sys.f, s * sys.constraint_values;
-  } else {
-    // K + β G Gᵀ, β = penalty × the largest diagonal entry of K.
-    const double beta = d.penalty * std::max(kmax, 1.0);
-    A = sys.K;
-    b = sys.f;
-    for (int bq = 0; bq < nb; ++bq)
-      for (int k = gt.offsets[bq]; k < gt.offsets[bq + 1]; ++k) {
-        const int row = gt.index[k] * nc + comp(bq);
-        b[row] += beta * gt.value[k] * sys.constraint_values[bq];
-        for (int l = g.offsets[bq]; l < g.offsets[bq + 1]; ++l)
-          trip.emplace_back(row, g.index[l] * nc + comp(bq), beta * gt.value[k] * g.value[l]);
-      }
-    Eigen::SparseMatrix<double> P(n, n);
-    P.setFromTriplets(trip.begin(), trip.end());
-    A += P;
-  }
-  A.makeCompressed();
-  Eigen::VectorXd x = solve_sparse(A, b, solver, info);
-  info.solver += d.particle_values                      ? " (particle values fixed)"
-                 : d.essential == EssentialBC::lagrange ? " (Lagrange multipliers)"
-                                                        : " (penalty)";
-  if (solved) *solved = std::move(A);
-  return x.head(n);
-}
 
 std::string study_label(const CaseSpec& spec) {
   const std::string p = spec.method_params.to_string();
   return p.empty() ? spec.method : spec.method + " " + p;
 }
 
-namespace {
-
-/// 1D: the fields at the particles and a dense sampling of the line (plots, VTK).
-void sample_line(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
-                 CaseFields& f) {
-  const Domain domain = d.domain;
-  f.x = d.particles.x.row(0).transpose();
-  f.coefficient = u;
-  f.volume = d.particles.volume;
-  const ShapeTable at_nodes = d.trial_at(d.particles.x, 1);
-  f.u_h = at_nodes.interpolate(u);
-  f.du_h = at_nodes.interpolate_derivative(u);
-  problem.exact(d.particles.x, f.u_exact, f.du_exact);
-  const int ns = 1201;
-  Eigen::MatrixXd xs(1, ns);
-  for (int i = 0; i < ns; ++i)
-    xs(0, i) = domain.lower[0] + (domain.upper[0] - domain.lower[0]) * i / (ns - 1);
-  const ShapeTable dense = d.trial_at(xs, 1);
-  f.sx = xs.row(0).transpose();
-  f.su_h = dense.interpolate(u);
-  f.sdu_h = dense.interpolate_derivative(u);
-  problem.exact(xs, f.su, f.sdu);
-}
-
-/// 2D: displacement and stress at the particles and the method's own points. Where the
-/// particles are quadrature points (nodal, stress-point rules) the method's own values and
-/// gradients are used; otherwise the trial field's.
-void sample_particles(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
-                      CaseFields& f) {
-  const int nc = problem.components();
-  const int n = d.particles.size();
-  f.points = d.particles.x;
-  f.coefficient = u;
-  f.volume = d.particles.volume;
-  f.stress_names = problem.flux_names();
-  Eigen::MatrixXd qv, qg, g, ue, ge;
-  d.trial_q.field(u, nc, qv, qg);
-  if (d.quadrature.nodal_points == n) {
-    f.disp_h = qv.leftCols(n);
-    g = qg.leftCols(n);
-  } else {
-    d.trial_at(d.particles.x, 1).field(u, nc, f.disp_h, g);
-  }
-  problem.exact_field(d.particles.x, f.disp_exact, ge);
-  f.stress_h = problem.flux(g);
-  f.stress_exact = problem.flux(ge);
-  f.q_points = d.quadrature.points;
-  f.q_stress_h = problem.flux(qg);
-  problem.exact_field(d.quadrature.points, ue, ge);
-  f.q_stress_exact = problem.flux(ge);
-}
-
-}  // namespace
-
-CaseResult run_case(const Catalogue& catalogue, const CaseSpec& spec) {
+CaseResult run_case(const Registries& plugins, const CaseSpec& spec) {
   CaseResult r;
   r.spec = spec;
-  const auto problem = catalogue.problems.create(spec.problem, spec.problem_params);
-  r.method_params = catalogue.methods.resolve(spec.method, spec.method_params);
-  const auto method = catalogue.methods.create(spec.method, spec.method_params);
-  const Domain domain = problem->domain();
-  if (problem->analysis()) {
-    problem->analyse(AnalysisContext{catalogue, r.spec, *method}, r);
-    r.errors_paper = r.errors;
-    return r;
-  }
-
-  double t0 = cpu_seconds();
-  ParticleSet particles = problem->particles(spec.nodes, spec.perturbation);
-  Discretization d = method->discretize(domain, std::move(particles), problem->derivative_order());
-  refuse_enrichment(d, fmt::format("problem '{}'", spec.problem));
-  double t1 = cpu_seconds();
-  r.cpu.setup = t1 - t0;
-  r.method_description = d.description;
-  r.h = d.particles.spacing;
-  r.dim = domain.dim;
-  r.components = problem->components();
-  r.particles = d.particles.size();
-  r.quadrature_points = d.quadrature.size();
-  r.cells = d.quadrature.cells;
-  r.quadrature_kind = d.quadrature.kind;
-  r.stress_points = d.quadrature.kind == "stress-points"
-                        ? d.quadrature.size() - d.quadrature.nodal_points
-                        : 0;
-  if (problem->transient()) {
-    problem->simulate(*method, std::move(d), r);
-    r.errors_paper = r.errors;
-    return r;
-  }
-  const AssembledSystem sys = problem->assemble(d);
-  double t2 = cpu_seconds();
-  r.cpu.assembly = t2 - t1;
-  Eigen::SparseMatrix<double> solved;
-  const Eigen::VectorXd u = solve_constrained(sys, d, r.solve, &solved, spec.solver);
-  r.cpu.solve = cpu_seconds() - t2;
-  // A diagnostic for the report, outside the timed solve: the dense SVD costs far more than
-  // the sparse LU it describes.
-  r.solve.condition = condition_number(solved);
-
-  r.errors = error_norms(*problem, d, u, problem->common_error_rule(d.particles));
-  r.errors_paper =
-      problem->errors_on_method_rule()
-          ? method_rule_error_norms(*problem, d, u)
-          : error_norms(*problem, d, u,
-                        paper_error_rule(domain, d.particles, problem->paper_error_points()));
-  r.headline = problem->headline(d, u);
-  if (domain.dim == 1 && r.components == 1)
-    sample_line(*problem, d, u, r.fields);
-  else
-    sample_particles(*problem, d, u, r.fields);
+  const ResolvedCase rc = resolve_case(plugins, spec);
+  r.analysis = rc.analysis;
+  r.problem_params = rc.problem_params;
+  r.analysis_params = rc.analysis_params;
+  r.method_params = rc.method_params;
+  const auto problem = plugins.problems.create(spec.problem, rc.problem_given);
+  const auto analysis = plugins.analyses.create(rc.analysis, rc.analysis_given);
+  const auto method = plugins.methods.create(spec.method, spec.method_params);
+  analysis->run(AnalysisContext{plugins, *problem, r.spec, *method}, r);
   return r;
 }
 
-StudyResult run_study(const Catalogue& catalogue, const CaseSpec& base,
+StudyResult run_study(const Registries& catalogue, const CaseSpec& base,
                       const std::vector<int>& nodes, const StudyProgress& progress) {
   StudyResult s;
   s.label = study_label(base);

@@ -52,6 +52,18 @@ class Registry {
     return e.factory(params.resolve(e.schema, fmt::format("{} '{}'", kind_, name)));
   }
 
+  /// Builds `name` as the derived type U (e.g. a problem as the definition an analysis
+  /// reads); InputError naming the plugin when it is not one.
+  template <class U>
+  std::unique_ptr<U> create_as(const std::string& name, const Params& params = {}) const {
+    std::unique_ptr<T> p = create(name, params);
+    if (auto* u = dynamic_cast<U*>(p.get())) {
+      p.release();
+      return std::unique_ptr<U>(u);
+    }
+    throw InputError(fmt::format("{} '{}' is not of the kind asked for here", kind_, name));
+  }
+
   Params resolve(const std::string& name, const Params& params) const {
     const Entry& e = entry(name);
     return params.resolve(e.schema, fmt::format("{} '{}'", kind_, name));

@@ -5,7 +5,7 @@
 
 #include <Eigen/Sparse>
 
-#include "verify/case.hpp"
+#include "analyses/case.hpp"
 
 namespace mfv {
 

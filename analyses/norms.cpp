@@ -1,9 +1,8 @@
-#include "verify/norms.hpp"
+#include "analyses/norms.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include <gsl/gsl_fit.h>
 
 namespace mfv {
 
@@ -33,7 +32,7 @@ IntegrationRule paper_error_rule(const Domain& domain, const ParticleSet& partic
 namespace {
 
 /// Norms of the differences between computed and exact values and gradients on a rule.
-ErrorNorms norms_from(const Problem& problem, const IntegrationRule& rule, const Eigen::MatrixXd& uh,
+ErrorNorms norms_from(const BoundaryValueProblem& problem, const IntegrationRule& rule, const Eigen::MatrixXd& uh,
                       const Eigen::MatrixXd& gh) {
   Eigen::MatrixXd ue, ge;
   problem.exact_field(rule.points, ue, ge);
@@ -58,38 +57,18 @@ ErrorNorms norms_from(const Problem& problem, const IntegrationRule& rule, const
 
 }  // namespace
 
-ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
+ErrorNorms error_norms(const BoundaryValueProblem& problem, const Discretization& d, const Eigen::VectorXd& u,
                        const IntegrationRule& rule) {
   Eigen::MatrixXd uh, gh;
   d.trial_at(rule.points, 1).field(u, problem.components(), uh, gh);
   return norms_from(problem, rule, uh, gh);
 }
 
-ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
+ErrorNorms method_rule_error_norms(const BoundaryValueProblem& problem, const Discretization& d,
                                    const Eigen::VectorXd& u) {
   Eigen::MatrixXd uh, gh;
   d.trial_q.field(u, problem.components(), uh, gh);
   return norms_from(problem, d.quadrature, uh, gh);
-}
-
-double fitted_rate(const std::vector<double>& h, const std::vector<double>& e) {
-  std::vector<double> lx, ly;
-  for (std::size_t i = 0; i < h.size() && i < e.size(); ++i)
-    if (h[i] > 0 && e[i] > 0 && std::isfinite(e[i])) {
-      lx.push_back(std::log(h[i]));
-      ly.push_back(std::log(e[i]));
-    }
-  if (lx.size() < 2) return NAN;
-  double c0, c1, cov00, cov01, cov11, sumsq;
-  gsl_fit_linear(lx.data(), 1, ly.data(), 1, lx.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
-  return c1;
-}
-
-std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vector<double>& e) {
-  std::vector<double> out;
-  for (std::size_t i = 1; i < h.size() && i < e.size(); ++i)
-    out.push_back(std::log(e[i] / e[i - 1]) / std::log(h[i] / h[i - 1]));
-  return out;
 }
 
 Rates study_rates(const std::vector<CaseResult>& cases, bool paper_rule) {

@@ -1,8 +1,12 @@
-/// Results of one case (problem × method × resolution) and of a refinement study: what the
-/// runner computes and what reports, baselines and bands read.
+/// Results of one case (problem × method × analysis × resolution) and of a refinement study:
+/// what every analysis fills in common (errors, headline values, CPU times) and, behind
+/// CaseResult::data<T>(), each analysis's own result type.
 #pragma once
 #include <cmath>
 #include <map>
+#include <memory>
+#include <stdexcept>
+#include <typeinfo>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,26 +15,9 @@
 #include <fmt/format.h>
 
 #include "methods/core/params.hpp"
+#include "problems/error_norms.hpp"
 
 namespace mfv {
-
-/// Error norms of u_h - u (004 II eq 7.2): absolute and relative to the exact solution's norm.
-struct ErrorNorms {
-  double l2 = 0, l2_rel = 0;            ///< ‖e‖_L2
-  double h1_semi = 0, h1_semi_rel = 0;  ///< ‖e'‖_L2 (the paper's "H1 norm")
-  double h1 = 0, h1_rel = 0;            ///< full H1: sqrt(‖e‖² + ‖e'‖²)
-  /// Energy norm sqrt(∫ σ(e):ε(e)) (001 eqs 73–74 with the customary square root; in 1D
-  /// the H1 seminorm).
-  double energy = 0, energy_rel = 0;
-  /// Every norm NaN: what a run reports for a norm it does not measure (a transient case has
-  /// no H1 error) or a checkpoint it did not reach (a run stopped as unstable); printed
-  /// "–" / "not reached", never 0.
-  static ErrorNorms not_measured() {
-    ErrorNorms e;
-    e.l2 = e.l2_rel = e.h1_semi = e.h1_semi_rel = e.h1 = e.h1_rel = e.energy = e.energy_rel = NAN;
-    return e;
-  }
-};
 
 /// CPU seconds of the phases of one case.
 struct Timings {
@@ -64,10 +51,19 @@ struct CaseSpec {
   Params method_params;  ///< as given (unresolved); the resolved set is in CaseResult
   int nodes = 0;
   double perturbation = 0;  ///< random particle offsets, fraction of the spacing
-  std::string solver = "auto";  ///< see kSolverChoices (verify/solver.hpp)
+  std::string solver = "auto";  ///< see kSolverChoices (analyses/solver.hpp)
+  /// The analysis that runs the case (analyses/analysis.hpp); empty: the problem's default,
+  /// the first of Problem::analyses().
+  std::string analysis;
 };
 
-/// Sampled fields for VTK files and plots.
+/// The base of each analysis's own result type (StaticSolveData, TransientData, FigureData,
+/// or a new analysis's): CaseResult holds one behind data<T>().
+struct AnalysisResult {
+  virtual ~AnalysisResult() = default;
+};
+
+/// Sampled fields for VTK files and plots (static solves).
 struct CaseFields {
   Eigen::VectorXd x;              ///< particle positions (1D)
   Eigen::VectorXd u_h, u_exact;   ///< at the particles: u_h(x_J) (not the coefficient)
@@ -83,8 +79,15 @@ struct CaseFields {
   std::vector<std::string> stress_names;
 };
 
-/// What a transient (explicit dynamics) case records besides errors and headline values.
-struct TransientData {
+/// What the static-solve analysis records besides errors and headline values: the linear
+/// solve and the sampled fields.
+struct StaticSolveData : AnalysisResult {
+  SolveInfo solve;
+  CaseFields fields;
+};
+
+/// What the transient analysis (explicit dynamics) records besides errors and headline values.
+struct TransientData : AnalysisResult {
   double dt = 0, dt_critical = 0, end_time = 0;
   long steps = 0, retabulations = 0;
   /// The run ended before its end time (unstable, or a problem's stop cap): peak values
@@ -108,7 +111,7 @@ struct TransientData {
     std::vector<std::pair<std::string, Eigen::MatrixXd>> data;
   };
   std::vector<Frame> frames;
-  /// Set when the run was found unstable (problems/transient.hpp states the criteria): the
+  /// Set when the run was found unstable (analyses/transient.hpp states the criteria): the
   /// step and time at which it was detected and why. The run stops there (a problem's own
   /// criterion may let it run on to its cap); checkpoints after it are not reached.
   struct Instability {
@@ -125,9 +128,10 @@ struct TransientData {
   }
 };
 
-/// What a stability or time-step analysis (a problem with analysis() true) records besides
-/// its headline values: figures of curves, tables for CSV files and one-line verdicts.
-struct AnalysisData {
+/// What the stability and time-step analyses (dispersion, time-step, stretch-map, crack-sweep)
+/// record besides their headline values: figures of curves, tables for CSV files and one-line
+/// verdicts.
+struct FigureData : AnalysisResult {
   std::string setup;  ///< the analysis settings (lattice, patch, frame, prestress, mass)
   struct Figure {
     std::string id;  ///< file stem, unique within the case ("dispersion", "dt-ratio")
@@ -155,7 +159,10 @@ struct AnalysisData {
 
 struct CaseResult {
   CaseSpec spec;
+  std::string analysis;            ///< the analysis that ran it (spec.analysis resolved)
+  Params problem_params;           ///< resolved, with defaults (the analysis's keys apart)
   Params method_params;            ///< resolved, with defaults
+  Params analysis_params;          ///< resolved, with the problem's and the analysis's defaults
   std::string method_description;  ///< human-readable composition
   double h = 0;                    ///< nominal spacing Δx
   int dim = 1, components = 1;
@@ -166,10 +173,42 @@ struct CaseResult {
   ErrorNorms errors_paper;         ///< on the paper's rule (Gauss points per cell between nodes)
   std::map<std::string, double> headline;
   Timings cpu;
-  SolveInfo solve;
-  CaseFields fields;
-  TransientData transient;  ///< transient problems only (steps > 0)
-  AnalysisData analysis;    ///< analysis problems only
+  /// The analysis's own result; data<T>() reaches it with its type.
+  std::shared_ptr<AnalysisResult> detail;
+
+  /// The analysis's result as T, made empty on first use by a case that holds none yet (an
+  /// analysis filling it, a test building a case by hand); std::logic_error if the case holds
+  /// another type (a report section of one analysis handed a case of another).
+  template <class T>
+  T& data() {
+    if (!detail) return emplace<T>();
+    if (auto* p = dynamic_cast<T*>(detail.get())) return *p;
+    throw std::logic_error(fmt::format("case {} × {}: its analysis '{}' has no {} result",
+                                       spec.problem, spec.method, analysis, typeid(T).name()));
+  }
+  /// The analysis's result as T (an empty one for a case that holds none: built by hand);
+  /// std::logic_error if the case holds another type.
+  template <class T>
+  const T& data() const {
+    static const T empty{};
+    if (!detail) return empty;
+    if (const auto* p = dynamic_cast<const T*>(detail.get())) return *p;
+    throw std::logic_error(fmt::format("case {} × {}: its analysis '{}' has no {} result",
+                                       spec.problem, spec.method, analysis, typeid(T).name()));
+  }
+  /// The analysis's result as T, or nullptr.
+  template <class T>
+  const T* find() const {
+    return dynamic_cast<const T*>(detail.get());
+  }
+  /// Sets a fresh result of type T and returns it.
+  template <class T>
+  T& emplace() {
+    auto p = std::make_shared<T>();
+    T& ref = *p;
+    detail = std::move(p);
+    return ref;
+  }
 };
 
 /// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the

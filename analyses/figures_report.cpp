@@ -9,7 +9,8 @@
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
-#include "reports/study_report.hpp"
+#include "analyses/figures.hpp"
+#include "analyses/report_section.hpp"
 
 namespace mfv {
 
@@ -23,7 +24,7 @@ std::string value_text(double v) {
   return std::abs(v) < 1e-2 || std::abs(v) >= 1e5 ? fmt_sci(v, 3) : fmt::format("{:.4g}", v);
 }
 
-std::string csv_text(const AnalysisData::Table& t) {
+std::string csv_text(const FigureData::Table& t) {
   std::string out = fmt::format("{}\n", fmt::join(t.columns, ","));
   for (const auto& row : t.rows) {
     std::vector<std::string> cells;
@@ -41,16 +42,16 @@ std::string case_label(const StudyResult& s) {
 
 }  // namespace
 
-std::string write_analysis_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_analysis_section(const Registries& catalogue, const ReportSection& section,
                                    const std::string& title, const fs::path& dir) {
-  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
   std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
   md += "**Cases.**\n\n";
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
-    md += fmt::format("- `{}`: {}; {}\n", case_label(s), r.method_description, r.analysis.setup);
+    md += fmt::format("- `{}`: {}; {}\n", case_label(s), r.method_description, r.data<FigureData>().setup);
   }
   for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
   md += "\n";
@@ -73,7 +74,7 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
   MarkdownTable t(header, align);
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
-    std::vector<std::string> row{case_label(s), fmt::format("{}", fmt::join(r.analysis.verdicts, "; "))};
+    std::vector<std::string> row{case_label(s), fmt::format("{}", fmt::join(r.data<FigureData>().verdicts, "; "))};
     for (const auto& k : keys) {
       const auto it = r.headline.find(k);
       row.push_back(it == r.headline.end() ? "–" : value_text(it->second));
@@ -89,25 +90,25 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
   fs::create_directories(dir / "data");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
-    if (r.analysis.figures.empty() && r.analysis.tables.empty()) continue;
+    if (r.data<FigureData>().figures.empty() && r.data<FigureData>().tables.empty()) continue;
     const std::string stem = base + "-" + slug(case_label(s));
     md += fmt::format("**`{}`**", case_label(s));
     std::vector<std::string> links;
-    for (const auto& table : r.analysis.tables) {
+    for (const auto& table : r.data<FigureData>().tables) {
       const std::string name = fmt::format("data/{}-{}.csv", stem, table.name);
       write_file_atomic(dir / name, csv_text(table));
       links.push_back(fmt::format("[{}.csv]({}{})", table.name, kPageUp, name));
     }
     if (!links.empty()) md += fmt::format(" (data: {})", fmt::join(links, ", "));
     md += "\n\n";
-    for (const auto& fig : r.analysis.figures) {
+    for (const auto& fig : r.data<FigureData>().figures) {
       PlotSpec spec;
       spec.title = fmt::format("{}: {}", case_label(s), fig.title);
       spec.xlabel = fig.xlabel;
       spec.ylabel = fig.ylabel;
       spec.logy = fig.logy;
       spec.style = fig.style;
-      for (const auto& c : r.analysis.curves)
+      for (const auto& c : r.data<FigureData>().curves)
         if (c.figure == fig.id) spec.series.push_back(Series{c.label, c.x, c.y});
       const std::string name = fmt::format("plots/{}-{}.svg", stem, fig.id);
       if (const auto why = write_svg_plot(dir / name, spec))
@@ -117,8 +118,31 @@ std::string write_analysis_section(const Catalogue& catalogue, const ReportSecti
     }
   }
   md += published_block(*problem, section.studies,
-                        catalogue.problems.resolve(section.problem, Params{}));
+                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
   return md;
+}
+
+std::string FigureAnalysis::page(const Registries& plugins, const ReportSection& section,
+                                 const std::string& title, const std::filesystem::path& dir,
+                                 bool) const {
+  return write_analysis_section(plugins, section, title, dir);
+}
+
+std::string FigureAnalysis::summary(const Problem&, const ReportSection& section) const {
+  return figures_summary(section);
+}
+
+std::string FigureAnalysis::page_contents(bool) const {
+  return "every case's verdicts and measured values, figures, CSV data and published values";
+}
+
+int FigureAnalysis::print_case(const CaseResult& r, std::ostream& out) const {
+  const FigureData& a = r.data<FigureData>();
+  out << fmt::format("setup     {}\n", a.setup);
+  for (const auto& v : a.verdicts) out << fmt::format("verdict   {}\n", v);
+  for (const auto& [k, v] : r.headline) out << fmt::format("  {:<40} {:.6g}\n", k, v);
+  out << fmt::format("CPU       {:.3f} s\n", r.cpu.total());
+  return 0;
 }
 
 }  // namespace mfv

@@ -1,13 +1,34 @@
-#include "verify/convergence.hpp"
+#include "reports/convergence.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
+#include <gsl/gsl_fit.h>
 
-#include "verify/norms.hpp"
 
 namespace mfv {
+
+double fitted_rate(const std::vector<double>& h, const std::vector<double>& e) {
+  std::vector<double> lx, ly;
+  for (std::size_t i = 0; i < h.size() && i < e.size(); ++i)
+    if (h[i] > 0 && e[i] > 0 && std::isfinite(e[i])) {
+      lx.push_back(std::log(h[i]));
+      ly.push_back(std::log(e[i]));
+    }
+  if (lx.size() < 2) return NAN;
+  double c0, c1, cov00, cov01, cov11, sumsq;
+  gsl_fit_linear(lx.data(), 1, ly.data(), 1, lx.size(), &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+  return c1;
+}
+
+std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vector<double>& e) {
+  std::vector<double> out;
+  for (std::size_t i = 1; i < h.size() && i < e.size(); ++i)
+    out.push_back(std::log(e[i] / e[i - 1]) / std::log(h[i] / h[i - 1]));
+  return out;
+}
+
 
 namespace {
 

@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
-#include "problems/transient.hpp"
+#include "analyses/transient.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
 #include "reports/time_series.hpp"
 
 namespace mfv {
@@ -73,7 +73,7 @@ std::string frame_comparison(const std::vector<StudyResult>& studies) {
       // Two blow-ups differ by whatever the instability amplified: nothing to compare.
       auto unstable = [](const StudyResult& s) {
         return std::any_of(s.cases.begin(), s.cases.end(),
-                           [](const CaseResult& r) { return r.transient.instability.has_value(); });
+                           [](const CaseResult& r) { return r.data<TransientData>().instability.has_value(); });
       };
       if (unstable(a) || unstable(b)) continue;
       if (sa.method != sb.method || sa.method_params.to_string() != sb.method_params.to_string() ||
@@ -85,8 +85,8 @@ std::string frame_comparison(const std::vector<StudyResult>& studies) {
       for (const auto& ra : a.cases)
         for (const auto& rb : b.cases) {
           if (ra.spec.nodes != rb.spec.nodes) continue;
-          if (ra.h > 0) moved = std::max({moved, ra.transient.max_displacement / ra.h,
-                                          rb.transient.max_displacement / rb.h});
+          if (ra.h > 0) moved = std::max({moved, ra.data<TransientData>().max_displacement / ra.h,
+                                          rb.data<TransientData>().max_displacement / rb.h});
           for (const auto& [k, va] : ra.headline) {
             const auto it = rb.headline.find(k);
             if (it == rb.headline.end() || !std::isfinite(va) || !std::isfinite(it->second) ||
@@ -115,9 +115,9 @@ std::string frame_comparison(const std::vector<StudyResult>& studies) {
 
 }  // namespace
 
-std::string write_transient_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_transient_section(const Registries& catalogue, const ReportSection& section,
                                     const std::string& title, const fs::path& dir, bool vtk) {
-  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
   std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\nResolutions count {}.\n\n",
                                title,
@@ -126,7 +126,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   md += "**Methods and time integration.**\n\n";
   for (const auto& s : section.studies)
     md += fmt::format("- `{}`: {}; {}\n", s.label, s.cases.front().method_description,
-                      s.cases.front().transient.dynamics);
+                      s.cases.front().data<TransientData>().dynamics);
   for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
   md += "\n";
 
@@ -152,7 +152,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
     MarkdownTable t(head, align);
     for (const auto& s : section.studies)
       for (const auto& r : s.cases) {
-        const TransientData& d = r.transient;
+        const TransientData& d = r.data<TransientData>();
         std::vector<std::string> row = {
             s.label, std::to_string(r.spec.nodes), std::to_string(r.particles),
             r.stress_points > 0 ? std::to_string(r.stress_points) : "–",
@@ -172,13 +172,13 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
       }
     md += t.str() + "\n";
   }
-  // Why each unstable run was called so (the criteria of problems/transient.hpp).
+  // Why each unstable run was called so (the criteria of analyses/transient.hpp).
   {
     std::string why;
     for (const auto& s : section.studies)
       for (const auto& r : s.cases)
-        if (r.transient.instability)
-          why += fmt::format("- `{}` n={}: {}\n", s.label, r.spec.nodes, r.transient.verdict());
+        if (r.data<TransientData>().instability)
+          why += fmt::format("- `{}` n={}: {}\n", s.label, r.spec.nodes, r.data<TransientData>().verdict());
     if (!why.empty())
       md += fmt::format("**Unstable runs.** A run stops at once when its fields go non-finite or "
                         "its kinetic energy exceeds {:g} × the energy put in (E₀ + max |W_ext|); "
@@ -195,8 +195,8 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   if (several) {
     std::string main_error = "the problem's relative L2 error";
     for (const auto& st : section.studies)
-      if (!st.cases.empty() && !st.cases.front().transient.main_error.empty())
-        main_error = st.cases.front().transient.main_error;
+      if (!st.cases.empty() && !st.cases.front().data<TransientData>().main_error.empty())
+        main_error = st.cases.front().data<TransientData>().main_error;
     md += fmt::format("## Convergence of the main error\n\nLeast-squares slope of ln(error) "
                       "against ln(h) and the slopes between successive resolutions (error: {}; "
                       "a resolution that did not reach its checkpoint leaves the rate "
@@ -224,8 +224,8 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   fs::create_directories(dir / "histories");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
-    if (r.transient.history.empty()) continue;
-    const TimeHistory h = history_of(r.transient);
+    if (r.data<TransientData>().history.empty()) continue;
+    const TimeHistory h = history_of(r.data<TransientData>());
     const std::string stem = fmt::format("{}-{}-n{}", base, slug(s.label), r.spec.nodes);
     write_history_csv(dir / "histories" / (stem + ".csv"), h);
     md += fmt::format("- `{}` ({} {}): [CSV]({}histories/{}.csv)", s.label, r.spec.nodes,
@@ -247,7 +247,7 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
   md += "\n";
 
   md += published_block(*problem, section.studies,
-                        catalogue.problems.resolve(section.problem, Params{}));
+                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   if (vtk) {
     md += "## VTK time series\n\nParticles at their current positions with velocity, "
@@ -255,10 +255,10 @@ std::string write_transient_section(const Catalogue& catalogue, const ReportSect
           "`.pvd` in ParaView and play it.\n\n";
     for (const auto& s : section.studies)
       for (const auto& r : s.cases) {
-        if (r.transient.frames.empty()) continue;
+        if (r.data<TransientData>().frames.empty()) continue;
         const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
         VtuSeriesWriter w(dir / sub, fmt::format("n{}", r.spec.nodes));
-        for (const auto& f : r.transient.frames) {
+        for (const auto& f : r.data<TransientData>().frames) {
           ParticleFrame pf;
           pf.time = f.time;
           pf.x = f.x;

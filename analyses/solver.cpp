@@ -1,4 +1,4 @@
-#include "verify/solver.hpp"
+#include "analyses/solver.hpp"
 
 #include <cmath>
 #include <memory>

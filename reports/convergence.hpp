@@ -41,6 +41,12 @@ struct ConvergenceJudgement {
   std::string label() const;
 };
 
+/// Least-squares slope of ln e against ln h (004 II eq 7.3, GSL gsl_fit_linear); NaN with
+/// fewer than two usable (positive, finite) points.
+double fitted_rate(const std::vector<double>& h, const std::vector<double>& e);
+/// Slopes between successive pairs.
+std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vector<double>& e);
+
 /// Judges the errors `e` at spacings `h` (same length, coarsest first, h > 0). A non-finite
 /// or non-positive error, a non-positive h, fewer than two resolutions or lengths that differ
 /// give Trend::undetermined with the reason — never "converges".

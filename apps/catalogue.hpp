@@ -1,16 +1,16 @@
-/// The catalogue: every registry (kernels, approximations, integration schemes, methods,
-/// problems) as one object, filled by the explicit register_all lists at construction.
+/// The composition root: every registry (kernels, approximations, integration schemes,
+/// methods, problems, materials, analyses) filled by the explicit register_all lists at
+/// construction, plus out-of-tree plugins.
 #pragma once
 #include <functional>
 #include <vector>
 
+#include "analyses/analysis.hpp"
 #include "methods/materials/material.hpp"
 #include "methods/methods/register.hpp"
-#include "problems/problem.hpp"
+#include "problems/register.hpp"
 
 namespace mfv {
-
-class Catalogue;
 
 /// Out-of-tree plugins (tests, user code): each hook runs right after the built-in list of
 /// its kind, so a kernel added here is a valid `kernel=` choice of every method.
@@ -19,9 +19,10 @@ struct Extensions {
   std::vector<std::function<void(ApproximationRegistry&, const KernelRegistry&)>> approximations;
   std::vector<std::function<void(MethodRegistry&, const MethodParts&)>> methods;
   std::vector<std::function<void(ProblemRegistry&)>> problems;
+  std::vector<std::function<void(AnalysisRegistry&)>> analyses;
 };
 
-class Catalogue {
+class Catalogue : public Registries {
  public:
   explicit Catalogue(const Extensions& extra = {}) {
     register_all_kernels(kernels);
@@ -34,19 +35,9 @@ class Catalogue {
     register_all_problems(problems);
     for (const auto& f : extra.problems) f(problems);
     register_all_materials(materials);
+    register_all_analyses(analyses);
+    for (const auto& f : extra.analyses) f(analyses);
   }
-  // Factories hold references into this object, so it stays where it was built.
-  Catalogue(const Catalogue&) = delete;
-  Catalogue& operator=(const Catalogue&) = delete;
-
-  MethodParts parts() const { return MethodParts{kernels, approximations, integrations}; }
-
-  KernelRegistry kernels{"kernel"};
-  ApproximationRegistry approximations{"approximation"};
-  IntegrationRegistry integrations{"integration scheme"};
-  MethodRegistry methods{"method"};
-  ProblemRegistry problems{"problem"};
-  MaterialRegistry materials{"material"};
 };
 
 }  // namespace mfv

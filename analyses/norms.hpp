@@ -5,7 +5,8 @@
 
 #include "methods/methods/method.hpp"
 #include "problems/problem.hpp"
-#include "verify/case.hpp"
+#include "analyses/case.hpp"
+#include "reports/convergence.hpp"
 
 namespace mfv {
 
@@ -16,18 +17,13 @@ IntegrationRule common_error_rule(const Domain& domain, int nodes);
 IntegrationRule paper_error_rule(const Domain& domain, const ParticleSet& particles, int points);
 
 /// Errors of the trial field on `rule` (any number of components; energy from the problem).
-ErrorNorms error_norms(const Problem& problem, const Discretization& d, const Eigen::VectorXd& u,
+ErrorNorms error_norms(const BoundaryValueProblem& problem, const Discretization& d, const Eigen::VectorXd& u,
                        const IntegrationRule& rule);
 /// Errors on the method's own quadrature with its own values and gradients (001 §9.1: "by the
 /// procedure that is used to evaluate the nodal forces").
-ErrorNorms method_rule_error_norms(const Problem& problem, const Discretization& d,
+ErrorNorms method_rule_error_norms(const BoundaryValueProblem& problem, const Discretization& d,
                                    const Eigen::VectorXd& u);
 
-/// Least-squares slope of ln e against ln h (GSL gsl_fit_linear); NaN with fewer than two
-/// usable (positive, finite) points.
-double fitted_rate(const std::vector<double>& h, const std::vector<double>& e);
-/// Slopes between successive pairs.
-std::vector<double> pairwise_rates(const std::vector<double>& h, const std::vector<double>& e);
 /// Rates of a study from its cases (common or paper rule).
 Rates study_rates(const std::vector<CaseResult>& cases, bool paper_rule);
 

@@ -1,12 +1,16 @@
-#include "problems/transient.hpp"
+#include "analyses/transient.hpp"
+
+#include "analyses/analysis.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "analyses/report_section.hpp"
+#include "methods/core/clock.hpp"
+#include "methods/core/errors.hpp"
 #include "reports/progress.hpp"
-#include "verify/runner.hpp"
 
 namespace mfv {
 
@@ -58,10 +62,11 @@ StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
 }
 
 void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
-                   const TransientPlan& plan, const Params& dynamics, const std::string& label,
-                   CaseResult& r) {
+                   const TransientDefinition& plan, const std::vector<double>& checkpoints,
+                   const Params& dynamics, TransientMeasures& m, CaseResult& r) {
+  const std::string& label = plan.label;
   if (!(plan.end_time > 0)) throw InputError("a transient run needs a positive end time");
-  const double unit = plan.checkpoints.empty() ? plan.end_time : plan.checkpoints.front();
+  const double unit = checkpoints.empty() ? plan.end_time : checkpoints.front();
   // The step counts are checked as floating-point numbers before they become integers: a
   // tiny dt would overflow the conversion (undefined) and silently run one huge step.
   if (!(dt_target > 0) || !std::isfinite(dt_target))
@@ -82,9 +87,9 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   const double dt = unit / per_unit;
   const long steps = std::max(1L, std::lround(plan.end_time / dt));
   std::vector<long> check_steps;
-  for (double t : plan.checkpoints) check_steps.push_back(std::lround(t / dt));
+  for (double t : checkpoints) check_steps.push_back(std::lround(t / dt));
 
-  TransientData& td = r.transient;
+  TransientData& td = r.data<TransientData>();
   td.dt = dt;
   td.dt_critical = dt_critical;
   td.end_time = steps * dt;
@@ -124,7 +129,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
       voigt.row(2) = sigma.row(2);
       f.data.emplace_back("stress", std::move(voigt));
     }
-    if (plan.frame_data) plan.frame_data(sim, f);
+    if (plan.frame_data) plan.frame_data(sim, f.data);
     td.frames.push_back(std::move(f));
   };
   record();
@@ -163,7 +168,8 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     scale = std::max({scale, e.kinetic, std::abs(e.external_work)});
     worst = std::max(worst, std::abs(e.balance()));
     for (std::size_t c = 0; c < check_steps.size(); ++c)
-      if (check_steps[c] == s && plan.at_checkpoint) plan.at_checkpoint(sim, static_cast<int>(c));
+      if (check_steps[c] == s && plan.at_checkpoint)
+        plan.at_checkpoint(sim, static_cast<int>(c), m);
     if (s % sample_every == 0 || s == steps) record();
     if (frame_every && (s % frame_every == 0 || s == steps)) snapshot();
     bar.update(s, sim.time());
@@ -176,7 +182,116 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   td.steps = done;
   td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;
-  r.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
+  m.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
+}
+
+namespace {
+
+class TransientAnalysis final : public Analysis {
+ public:
+  bool accepts(const Problem& problem) const override {
+    return dynamic_cast<const TransientProblem*>(&problem) != nullptr;
+  }
+  explicit TransientAnalysis(Params p) : p_(std::move(p)) {}
+
+  void run(const AnalysisContext& c, CaseResult& r) const override {
+    const auto& problem = definition_of<TransientProblem>(
+        c, "transient", "a transient run (a TransientProblem's define)");
+    Discretization d = discretize_case(problem, c, r);
+    TransientData& td = r.emplace<TransientData>();
+    const double t0 = cpu_seconds();
+    TransientDefinition def = problem.define(
+        d, TransientInputs{c.plugins.materials, c.spec.method, r.method_params, c.spec.nodes});
+    ExplicitDynamics sim(c.method, std::move(d), std::move(def.model), dynamics_options(p_));
+    if (def.initial_velocity.size() > 0) sim.set_particle_velocity(def.initial_velocity);
+    StepChoice step = choose_step(sim, p_);
+    if (def.preferred_step && !(p_.number("dt") > 0)) step.target = def.preferred_step(step.critical);
+    const std::vector<double> checkpoints =
+        def.step_checkpoints ? def.step_checkpoints(step.target, step.critical) : def.checkpoints;
+    r.cpu.assembly = cpu_seconds() - t0;
+    td.main_error = def.main_error;
+    TransientMeasures m;
+    try {
+      run_transient(sim, step.target, step.critical, def, checkpoints, p_, m, r);
+    } catch (const SingularError& e) {
+      // An Eulerian kernel whose particles have crossed (a support left with one particle):
+      // the instability has destroyed the particle arrangement.
+      td.steps = sim.counters().steps;
+      td.stopped_early = true;
+      if (!td.instability)
+        td.instability = TransientData::Instability{
+            sim.counters().steps, sim.time(),
+            fmt::format("the particle arrangement collapsed ({})", e.what())};
+    }
+    if (!def.notes.empty()) td.dynamics += "; " + def.notes;
+    TransientOutcome out;
+    out.dt = td.dt;
+    out.dt_critical = step.critical;
+    out.steps = td.steps;
+    out.stopped_early = td.stopped_early;
+    out.unstable = td.instability.has_value();
+    out.unstable_time = td.instability ? td.instability->time : 0.0;
+    out.cpu_seconds = r.cpu.total();
+    if (def.finish) def.finish(sim, out, m);
+    r.errors = m.errors;
+    r.errors_paper = r.errors;
+    for (auto& [k, v] : m.headline) r.headline[k] = v;
+  }
+
+  std::string page(const Registries& plugins, const ReportSection& section,
+                   const std::string& title, const std::filesystem::path& dir,
+                   bool vtk) const override {
+    return write_transient_section(plugins, section, title, dir, vtk);
+  }
+  std::string summary(const Problem& problem, const ReportSection& section) const override {
+    return ranking_block(section.studies, problem.resolution_name(),
+                         "relative error of the problem's main field");
+  }
+  std::string page_contents(bool vtk) const override {
+    return fmt::format("every resolution's errors, rates and CPU, plots, the findings, published "
+                       "values{}",
+                       vtk ? " and VTK files" : "");
+  }
+  int print_case(const CaseResult& r, std::ostream& out) const override {
+    const TransientData& t = r.data<TransientData>();
+    out << fmt::format("dynamics  {}\n", t.dynamics);
+    out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
+                       "{:.6g}{}{}\n",
+                       t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
+                       t.stopped_early
+                           ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
+                           : "",
+                       t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
+                                           : "");
+    if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
+    // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.
+    const std::string missing = t.instability ? "not reached" : "–";
+    auto shown = [&](double v, const char* spec) {
+      return std::isnan(v) ? missing : fmt::format(fmt::runtime(spec), v);
+    };
+    out << fmt::format("L2 error  relative {} (the problem's main error)\n",
+                       t.main_error.empty() ? std::string("not measured")
+                                            : shown(r.errors.l2_rel, "{:.6e}"));
+    for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
+    out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
+                       "({:.3g} particle-steps/s)\n",
+                       r.cpu.setup, r.cpu.assembly, r.cpu.solve,
+                       r.particles * double(t.steps) / std::max(r.cpu.solve, 1e-9));
+    return t.instability ? 1 : 0;
+  }
+
+ private:
+  Params p_;
+};
+
+}  // namespace
+
+void register_transient(AnalysisRegistry& r) {
+  r.add("transient",
+        "explicit dynamics of a transient problem's definition: engine, critical step, time "
+        "loop with checkpoints, energy histories, VTK frames; blow-ups stop the run",
+        dynamics_schema(),
+        [](const Params& p) { return std::make_unique<TransientAnalysis>(p); });
 }
 
 }  // namespace mfv

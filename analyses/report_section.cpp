@@ -1,4 +1,4 @@
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -12,8 +12,9 @@
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
+#include "analyses/case_vtk.hpp"
 #include "reports/vtk.hpp"
-#include "verify/comparison.hpp"
+#include "problems/comparison.hpp"
 
 namespace mfv {
 
@@ -139,24 +140,33 @@ std::string slug(const std::string& text) {
   return out.empty() ? "x" : out;
 }
 
-void add_to_sections(std::vector<ReportSection>& sections, StudyResult study) {
+void add_to_sections(const Registries& plugins, std::vector<ReportSection>& sections,
+                     StudyResult study) {
   if (study.cases.empty()) return;
   const CaseSpec& spec = study.cases.front().spec;
+  // A case built by hand may not say its analysis: the problem's default ran it.
+  const std::string analysis =
+      !study.cases.front().analysis.empty()
+          ? study.cases.front().analysis
+          : create_problem(plugins, spec.problem, spec.problem_params)->analyses().front();
   // Transient studies of one problem share a section whatever their loading, frame or
   // prestress: their findings compare across those parameters (Lagrangian vs Eulerian,
   // σ̄ sweeps), and each study's parameters are in its label and engine description.
-  // Analyses likewise: one section per problem, the parameters of each case in its row.
-  const bool transient = study.cases.front().transient.steps > 0;
-  const bool analysis = !study.cases.front().analysis.empty();
-  const Params key = transient || analysis ? Params{} : spec.problem_params;
+  // Figure analyses likewise: one section per problem, the parameters of each case in its
+  // row. A static solve's parameters make another problem (another exact solution).
+  const Params key = plugins.analyses.create(analysis)->section_per_problem_params()
+                         ? spec.problem_params
+                         : Params{};
   for (auto& s : sections) {
-    if (s.problem == spec.problem && s.problem_params.to_string() == key.to_string()) {
+    if (s.problem == spec.problem && s.analysis == analysis &&
+        s.problem_params.to_string() == key.to_string()) {
       s.studies.push_back(std::move(study));
       return;
     }
   }
   ReportSection s;
   s.problem = spec.problem;
+  s.analysis = analysis;
   s.problem_params = key;
   s.studies.push_back(std::move(study));
   sections.push_back(std::move(s));
@@ -277,7 +287,7 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
     md += fmt::format("n counts {}. ", problem.resolution_name());
     md += "\"ours/paper\" is the ratio; the verdict is reproduced when |ours/paper − 1| is "
           "within the value's tolerance, partly within 3× it, not reproduced beyond "
-          "(verify/comparison.hpp).\n\n";
+          "(problems/comparison.hpp).\n\n";
     md += t.str() + "\n";
     for (std::size_t i = 0; i < notes.size(); ++i)
       md += fmt::format("[{}] {}  \n", i + 1, notes[i]);
@@ -296,15 +306,14 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
   return md;
 }
 
-namespace {
 
 /// The page of a 1D static problem: methods, errors and CPU per resolution, rates with
 /// their trend, plots, published values, VTK.
-std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& section,
+std::string write_scalar_page(const Registries& catalogue, const ReportSection& section,
                               const std::string& title, const std::filesystem::path& dir,
                               bool vtk) {
   namespace fs = std::filesystem;
-  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
   std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
@@ -350,7 +359,7 @@ std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& s
           const auto it = r.headline.find(n);
           row.push_back(it == r.headline.end() ? "–" : fmt::format("{:.5f}", it->second));
         }
-        row.push_back(fmt_sci(r.solve.condition, 1));
+        row.push_back(fmt_sci(r.data<StaticSolveData>().solve.condition, 1));
         row.push_back(fmt::format("{:.4f}", r.cpu.setup));
         row.push_back(fmt::format("{:.4f}", r.cpu.assembly));
         row.push_back(fmt::format("{:.4f}", r.cpu.solve));
@@ -364,7 +373,7 @@ std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& s
   md += "## Convergence rates\n\nLeast-squares slope of ln e against ln h over all "
         "resolutions (004 II eq 7.3), and the slope between successive resolutions; the paper "
         "rule integrates with 12 Gauss points between neighbouring particles. The L2 trend "
-        "judges the pairwise rates and the finest error (verify/convergence.hpp): converges "
+        "judges the pairwise rates and the finest error (reports/convergence.hpp): converges "
         "only if the finest error is the smallest and the last pairwise and the fitted rate "
         "are at least 0.5.\n\n";
   {
@@ -401,7 +410,7 @@ std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& s
 
   // 5. Published values beside ours.
   md += published_block(*problem, section.studies,
-                        catalogue.problems.resolve(section.problem, Params{}));
+                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   // 6. VTK files: one ParaView collection per study, stepping through the resolutions.
   if (vtk) {
@@ -414,7 +423,6 @@ std::string write_scalar_page(const Catalogue& catalogue, const ReportSection& s
   return md;
 }
 
-}  // namespace
 
 ConvergenceJudgement judge_study(const StudyResult& study,
                                  const std::function<double(const CaseResult&)>& error) {
@@ -448,6 +456,8 @@ int finest_common_resolution(const std::vector<StudyResult>& studies) {
   }
   return common.empty() ? 0 : *common.rbegin();
 }
+
+}  // namespace
 
 /// The method ranking of a section with errors: relative L2 error (the problem's main field)
 /// at the finest common resolution, the finest error where a study goes further, the fitted
@@ -532,6 +542,8 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
   return md + t.str() + "\n";
 }
 
+namespace {
+
 /// The one-line verdict counts of the findings and the published values.
 std::string verdict_lines(const Problem& problem, const ReportSection& section,
                           const Params& defaults) {
@@ -578,17 +590,21 @@ std::string short_verdict(const std::vector<std::string>& verdicts) {
   return v;
 }
 
-std::string analysis_summary(const ReportSection& section) {
+}  // namespace
+
+std::string figures_summary(const ReportSection& section) {
   MarkdownTable t({"case", "verdict", "CPU s"}, {'l', 'l', 'r'});
   for (const auto& s : section.studies) {
     if (s.cases.empty()) continue;
     const CaseResult& r = s.cases.back();
     const std::string pp = r.spec.problem_params.to_string();
-    t.add_row({pp.empty() ? s.label : s.label + " | " + pp, short_verdict(r.analysis.verdicts),
+    t.add_row({pp.empty() ? s.label : s.label + " | " + pp, short_verdict(r.data<FigureData>().verdicts),
                fmt::format("{:.3f}", r.cpu.total())});
   }
   return t.rows() > 0 ? t.str() + "\n" : "";
 }
+
+namespace {
 
 /// problems/<slug>.md, or <slug>-2.md, … if a page of that name is there already.
 std::filesystem::path page_path(const std::filesystem::path& dir, const std::string& title) {
@@ -601,18 +617,16 @@ std::filesystem::path page_path(const std::filesystem::path& dir, const std::str
 
 }  // namespace
 
-std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_problem_section(const Registries& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk) {
-  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
-  const Params defaults = catalogue.problems.resolve(section.problem, Params{});
+  const auto problem = create_problem(catalogue, section.problem, section.problem_params);
+  // A section built by hand may not say its analysis: the problem's default.
+  const std::string analysis_name =
+      section.analysis.empty() ? problem->analyses().front() : section.analysis;
+  const auto analysis = catalogue.analyses.create(analysis_name);
+  const Params defaults = resolved_case_params(catalogue, section.problem, Params{}, analysis_name);
   const std::string title = section_title(section);
-  const bool elasticity = !section.studies.empty() && !section.studies.front().cases.empty() &&
-                          section.studies.front().cases.front().components > 1;
-  const std::string page =
-      problem->transient()  ? write_transient_section(catalogue, section, title, dir, vtk)
-      : problem->analysis() ? write_analysis_section(catalogue, section, title, dir)
-      : elasticity          ? write_elasticity_section(catalogue, section, title, dir, vtk)
-                            : write_scalar_page(catalogue, section, title, dir, vtk);
+  const std::string page = analysis->page(catalogue, section, title, dir, vtk);
   std::filesystem::create_directories(dir / kPagesDir);
   const std::filesystem::path path = page_path(dir, title);
   write_file_atomic(path, page);
@@ -620,24 +634,51 @@ std::string write_problem_section(const Catalogue& catalogue, const ReportSectio
 
   std::string md = fmt::format("## {}\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
-  if (problem->analysis()) {
-    md += analysis_summary(section);
-  } else {
-    const std::string error_name = problem->transient()
-                                       ? "relative error of the problem's main field"
-                                       : elasticity ? "relative L2 displacement error"
-                                                    : "relative L2 error";
-    md += ranking_block(section.studies, problem->resolution_name(), error_name);
-  }
+  md += analysis->summary(*problem, section);
   md += verdict_lines(*problem, section, defaults);
   md += fmt::format("\n**Details:** [{}]({}) — {}.\n\n", link, link,
-                    problem->analysis()
-                        ? "every case's verdicts and measured values, figures, CSV data and "
-                          "published values"
-                        : fmt::format("every resolution's errors, rates and CPU, plots, the "
-                                      "findings, published values{}",
-                                      vtk ? " and VTK files" : ""));
+                    analysis->page_contents(vtk));
   return md;
+}
+
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          const std::string& ylabel,
+                          const std::function<double(const CaseResult&)>& error,
+                          const std::function<double(const Rates&)>& rate) {
+  PlotSpec spec;
+  spec.title = title;
+  spec.xlabel = "nominal particle spacing h (length unit of x)";
+  spec.ylabel = ylabel;
+  spec.logx = spec.logy = true;
+  spec.style = "linespoints";
+  double steepest = 0;
+  for (const auto& study : studies) {
+    Series s;
+    const double r = rate(study.rates);
+    s.label = fmt::format("{} (rate {})", study.label, fmt_rate(r));
+    if (std::isfinite(r)) steepest = std::max(steepest, r);
+    for (const auto& c : study.cases) {
+      s.x.push_back(c.h);
+      s.y.push_back(error(c));
+    }
+    spec.series.push_back(std::move(s));
+  }
+  spec.reference_slopes = {1, 2};
+  const int top = static_cast<int>(std::lround(std::min(steepest, 10.0)));
+  if (top > 2) spec.reference_slopes.push_back(top);
+  return spec;
+}
+
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          bool h1) {
+  if (h1)
+    return convergence_plot(
+        title, studies, "H1 seminorm error ||u_h' - u'||",
+        [](const CaseResult& c) { return c.errors.h1_semi; },
+        [](const Rates& r) { return r.h1_semi; });
+  return convergence_plot(
+      title, studies, "L2 error ||u_h - u||", [](const CaseResult& c) { return c.errors.l2; },
+      [](const Rates& r) { return r.l2; });
 }
 
 }  // namespace mfv

@@ -8,22 +8,27 @@
 #include <string>
 #include <vector>
 
-#include "verify/case.hpp"
-#include "verify/catalogue.hpp"
-#include "verify/convergence.hpp"
+#include "analyses/analysis.hpp"
+#include "analyses/case.hpp"
+#include "reports/plot.hpp"
+#include "analyses/analysis.hpp"
+#include "reports/convergence.hpp"
 
 namespace mfv {
 
 /// The studies of one problem (with one set of problem parameters).
 struct ReportSection {
   std::string problem;
+  std::string analysis;  ///< the analysis that ran the studies (analyses/analysis.hpp)
   Params problem_params;
   std::vector<StudyResult> studies;
   std::vector<std::string> failures;  ///< "label: message" of studies that could not run
 };
 
-/// Groups studies by (problem, problem parameters), in first-seen order.
-void add_to_sections(std::vector<ReportSection>& sections, StudyResult study);
+/// Groups studies by (problem, analysis) — and by the problem parameters where the analysis
+/// says they make another problem (Analysis::section_per_problem_params) — in first-seen order.
+void add_to_sections(const Registries& plugins, std::vector<ReportSection>& sections,
+                     StudyResult study);
 
 /// "laplace-tanh s=10" → "laplace-tanh-s-10": a file-name-safe slug.
 std::string slug(const std::string& text);
@@ -75,13 +80,13 @@ std::string findings_block(const Problem& problem, const std::vector<StudyResult
 /// The page of a transient problem (explicit dynamics): methods and engine settings,
 /// findings, errors and CPU per case, rates, convergence and time-history plots, history
 /// CSV files, published values, and ParaView time series per case.
-std::string write_transient_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_transient_section(const Registries& catalogue, const ReportSection& section,
                                     const std::string& title, const std::filesystem::path& dir,
                                     bool vtk);
 
 /// The page of an analysis problem (dispersion, time steps, enriched bars, stable-domain
 /// maps): cases, findings, verdicts and headline values, figures as SVG, tables as CSV.
-std::string write_analysis_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_analysis_section(const Registries& catalogue, const ReportSection& section,
                                    const std::string& title, const std::filesystem::path& dir);
 
 /// One VTK file per resolution: its name suffix ("-line.vtp") and its writer.
@@ -95,15 +100,29 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
                                   const std::vector<StudyResult>& studies,
                                   const std::vector<VtkPart>& parts);
 
-/// The convergence judgement (verify/convergence.hpp) of `error` over a study's cases.
+/// The convergence judgement (reports/convergence.hpp) of `error` over a study's cases.
 ConvergenceJudgement judge_study(const StudyResult& study,
                                  const std::function<double(const CaseResult&)>& error);
 
 /// Summaries of studies for a problem's findings (finest case, rates on the common rule).
 std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies);
 
-/// The page of a 2D (vector) problem; write_problem_section dispatches to it.
-std::string write_elasticity_section(const Catalogue& catalogue, const ReportSection& section,
+/// The method ranking of a section with errors: relative L2 error (the problem's main field)
+/// at the finest common resolution, the finest error where a study goes further, the fitted
+/// rate with its trend, CPU seconds and correct digits per CPU second; best first.
+std::string ranking_block(const std::vector<StudyResult>& studies, const std::string& resolution,
+                          const std::string& error_name);
+
+/// The page of a 1D scalar problem (static solves).
+std::string write_scalar_page(const Registries& catalogue, const ReportSection& section,
+                              const std::string& title, const std::filesystem::path& dir,
+                              bool vtk);
+
+/// Each case's verdict in one row (the summary of the figure analyses).
+std::string figures_summary(const ReportSection& section);
+
+/// The page of a 2D (vector) problem (static solves).
+std::string write_elasticity_section(const Registries& catalogue, const ReportSection& section,
                                      const std::string& title, const std::filesystem::path& dir,
                                      bool vtk);
 
@@ -112,7 +131,20 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
 /// returns the one-screen summary for index.md: heading, what the problem is, the method
 /// ranking at the finest resolution the studies share (analyses: each case's verdict), the
 /// findings' and published values' verdict counts, and the link to the page.
-std::string write_problem_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_problem_section(const Registries& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk);
+
+/// A log–log plot of the error against h, one series per study, labelled
+/// "<study label> (rate 2.01)": the L2 error and rates.l2, or with `h1` the H1 seminorm
+/// error and rates.h1_semi. Errors are CaseResult::errors (the common fine rule). Reference
+/// slopes 1 and 2, and the largest fitted rate rounded when it is above 2.
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          bool h1);
+
+/// The same for any norm: `error` of each case against h, labelled with `rate` of each study.
+PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
+                          const std::string& ylabel,
+                          const std::function<double(const CaseResult&)>& error,
+                          const std::function<double(const Rates&)>& rate);
 
 }  // namespace mfv

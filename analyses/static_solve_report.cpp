@@ -9,7 +9,8 @@
 
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
-#include "reports/study_report.hpp"
+#include "analyses/report_section.hpp"
+#include "analyses/case_vtk.hpp"
 #include "reports/vtk.hpp"
 
 namespace mfv {
@@ -60,9 +61,9 @@ std::string findings_block(const Problem& problem, const std::vector<StudyResult
   return md + t.str() + "\n";
 }
 
-std::string write_elasticity_section(const Catalogue& catalogue, const ReportSection& section,
+std::string write_elasticity_section(const Registries& catalogue, const ReportSection& section,
                                      const std::string& title, const fs::path& dir, bool vtk) {
-  const auto problem = catalogue.problems.create(section.problem, section.problem_params);
+  const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
   std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
@@ -109,10 +110,10 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
           const auto it = r.headline.find(k);
           row.push_back(it == r.headline.end() ? "–" : fmt::format("{:.6g}", it->second));
         }
-        row.push_back(std::to_string(r.solve.unknowns));
-        row.push_back(r.solve.fill > 0 ? std::to_string(r.solve.fill) : "–");
-        row.push_back(fmt_sci(r.solve.rcond, 1));
-        row.push_back(fmt_sci(r.solve.residual, 1));
+        row.push_back(std::to_string(r.data<StaticSolveData>().solve.unknowns));
+        row.push_back(r.data<StaticSolveData>().solve.fill > 0 ? std::to_string(r.data<StaticSolveData>().solve.fill) : "–");
+        row.push_back(fmt_sci(r.data<StaticSolveData>().solve.rcond, 1));
+        row.push_back(fmt_sci(r.data<StaticSolveData>().solve.residual, 1));
         row.push_back(fmt::format("{:.3f}", r.cpu.setup));
         row.push_back(fmt::format("{:.3f}", r.cpu.assembly));
         row.push_back(fmt::format("{:.3f}", r.cpu.solve));
@@ -122,15 +123,15 @@ std::string write_elasticity_section(const Catalogue& catalogue, const ReportSec
     std::vector<std::string> solvers;
     for (const auto& s : section.studies)
       for (const auto& r : s.cases)
-        if (std::find(solvers.begin(), solvers.end(), r.solve.solver) == solvers.end())
-          solvers.push_back(r.solve.solver);
+        if (std::find(solvers.begin(), solvers.end(), r.data<StaticSolveData>().solve.solver) == solvers.end())
+          solvers.push_back(r.data<StaticSolveData>().solve.solver);
     md += fmt::format("Solvers used: {}.\n\n", fmt::join(solvers, "; "));
   }
 
   // 3. Rates.
   md += "## Convergence rates\n\nLeast-squares slope of ln(error) against ln(h), and the slopes "
         "between successive resolutions. The trends judge the pairwise rates and the finest "
-        "error (verify/convergence.hpp): converges only if the finest error is the smallest and "
+        "error (reports/convergence.hpp): converges only if the finest error is the smallest and "
         "the last pairwise and the fitted rate are at least 0.5.\n\n";
   {
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "energy rate", "energy pairwise",

@@ -1,4 +1,4 @@
-#include "verify/comparison.hpp"
+#include "problems/comparison.hpp"
 
 #include <cmath>
 #include <stdexcept>

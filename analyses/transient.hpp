@@ -1,0 +1,56 @@
+/// The `transient` analysis: explicit dynamics of a TransientProblem's definition
+/// (problems/transient_problem.hpp). Its parameters are the engine's (kernel frame,
+/// integrator, time step, viscosity, threads, outputs); it builds the engine, chooses the
+/// step and runs the time loop with exact checkpoints, energy histories, VTK frames and
+/// progress, and stops a run that blows up.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "analyses/case.hpp"
+#include "dynamics/explicit.hpp"
+#include "problems/transient_problem.hpp"
+
+namespace mfv {
+
+/// Parameters of the engine, the analysis's schema (a problem changes their defaults by
+/// Problem::analysis_defaults):
+/// frame (lagrangian|eulerian), update_every, integrator (verlet|newmark), gamma, safety,
+/// dt (0: safety × the critical step), av_alpha, av_beta (viscosity), threads, frames (VTK
+/// snapshots per run), samples (history rows per run).
+ParamSchema dynamics_schema(const std::string& default_integrator = "verlet",
+                            double default_safety = 0.8);
+DynamicsOptions dynamics_options(const Params& resolved);
+
+/// The generic blow-up bound of run_transient. The engine keeps the balance
+/// K + W_int − W_ext = E₀ (E₀ the energy at t = 0) to the integrator's O((ω Δt)²) shadow-
+/// energy error, which stays below E₀ for any step under the critical one. With a stored
+/// energy W_int that is not negative about the start, a stable run therefore has
+/// K ≤ E₀ + max_t |W_ext| = E_in, up to a factor of order one. A kinetic energy above
+/// kEnergyBound · E_in (velocities 100 times what the balance allows) can only be a blow-up:
+/// an instability grows exponentially and crosses it a few dozen steps after its onset. Runs
+/// with E_in = 0 (nothing set in motion) are checked for non-finite values only.
+inline constexpr double kEnergyBound = 1e4;
+
+/// Runs `sim` to def.end_time with a step that lands on every checkpoint: the largest step
+/// not above `dt_target` that divides the first checkpoint (or the end time) into whole
+/// steps. Fills r's TransientData (dt, steps, histories, frames), r.cpu.solve (the loop's
+/// CPU seconds) and m's headline "energy drift": max |K + W_int − W_ext − K₀| over the steps
+/// taken, relative to the largest of K₀, the peak kinetic energy and |W_ext|. Shows a
+/// progress bar on a terminal (quiet in CI).
+/// Stops at once, with the instability set ("unstable at step k, t = …"), at the first step
+/// whose kinetic energy, work or fields are not finite or whose kinetic energy exceeds
+/// kEnergyBound · E_in; the checkpoints after it are not reached (their values stay NaN).
+/// def.unstable may mark the run unstable without stopping it.
+void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
+                   const TransientDefinition& def, const std::vector<double>& checkpoints,
+                   const Params& dynamics, TransientMeasures& m, CaseResult& r);
+
+/// The critical step and the step the parameters ask for (dt, or safety × critical).
+struct StepChoice {
+  double critical = 0, target = 0;
+};
+StepChoice choose_step(const ExplicitDynamics& sim, const Params& dynamics);
+
+}  // namespace mfv

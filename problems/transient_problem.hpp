@@ -1,0 +1,89 @@
+/// Transient problems (explicit dynamics) as definitions: for a discretized case, the model
+/// (material, density, masses, prescribed motion, loads), the initial state, the end time,
+/// the checkpoints and what is measured there. The `transient` analysis
+/// (analyses/transient.hpp) builds the engine, chooses the step, runs the loop and times it.
+#pragma once
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dynamics/explicit.hpp"
+#include "methods/materials/material.hpp"
+#include "problems/error_norms.hpp"
+#include "problems/problem.hpp"
+
+namespace mfv {
+
+/// What a transient run measures: the main error norm (NaN where not measured or not
+/// reached) and the problem's headline values.
+struct TransientMeasures {
+  ErrorNorms errors = ErrorNorms::not_measured();
+  std::map<std::string, double> headline;
+};
+
+/// How a run went, for the problem's closing measurements.
+struct TransientOutcome {
+  double dt = 0, dt_critical = 0;
+  long steps = 0;
+  bool stopped_early = false;  ///< ended before the end time (unstable, or the problem's stop)
+  bool unstable = false;
+  double unstable_time = 0;    ///< when the instability was detected (unstable runs)
+  double cpu_seconds = 0;      ///< set-up, engine and time loop
+};
+
+/// What define() gets besides the discretization: the materials to build the problem's
+/// from, and the case's method (some measurements belong to one method's window).
+struct TransientInputs {
+  const MaterialRegistry& materials;
+  std::string method;    ///< registered name
+  Params method_params;  ///< resolved
+  int nodes = 0;
+};
+
+/// One transient case as the problem defines it. Callbacks may keep state between calls
+/// (peaks, onset times): they are called in the order of the run, on one thread.
+struct TransientDefinition {
+  DynamicsModel model;
+  /// Particle velocities at t = 0 (dim × N); empty: at rest.
+  Eigen::MatrixXd initial_velocity;
+  double end_time = 0;
+  /// Times the step must land on (errors are measured there), at_checkpoint's k counts them.
+  std::vector<double> checkpoints;
+  /// Checkpoints that depend on the chosen step (whole steps near given times); replaces
+  /// `checkpoints` when set. May throw InputError for a step the problem cannot use.
+  std::function<std::vector<double>(double dt_target, double dt_critical)> step_checkpoints;
+  /// The step to take when the case sets no dt (instead of safety × the critical step),
+  /// e.g. a Courant number times the finite-element step.
+  std::function<double(double dt_critical)> preferred_step;
+  std::string label;       ///< what the progress bar shows
+  std::string main_error;  ///< what errors.l2_rel measures, with units ("" : none)
+  std::string notes;       ///< appended to the engine's description ("gaussian loading")
+  std::function<void(const ExplicitDynamics&, int checkpoint, TransientMeasures&)> at_checkpoint;
+  std::vector<std::string> probe_names;
+  std::function<std::vector<double>(const ExplicitDynamics&)> probes;
+  /// Extra arrays of a VTK frame (exact velocity, error ...) besides velocity,
+  /// displacement and stress.
+  std::function<void(const ExplicitDynamics&,
+                     std::vector<std::pair<std::string, Eigen::MatrixXd>>&)>
+      frame_data;
+  /// Called after every step; true stops the run (a detector that has seen enough).
+  std::function<bool(const ExplicitDynamics&)> stop;
+  /// The problem's own instability criterion, after every step: the first non-empty reason
+  /// marks the run unstable at that step; the run goes on until `stop` or the generic bound.
+  std::function<std::string(const ExplicitDynamics&)> unstable;
+  /// After the run, stable or not: the problem's closing measurements.
+  std::function<void(const ExplicitDynamics&, const TransientOutcome&, TransientMeasures&)>
+      finish;
+};
+
+/// A problem run by the `transient` analysis.
+class TransientProblem : public ParticleProblem {
+ public:
+  std::vector<std::string> analyses() const override { return {"transient"}; }
+  /// The run of the case whose discretization at t = 0 is `d`.
+  virtual TransientDefinition define(const Discretization& d, const TransientInputs& in) const = 0;
+};
+
+}  // namespace mfv
