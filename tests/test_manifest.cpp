@@ -967,7 +967,7 @@ const std::vector<DriftCheck> kDriftChecks = {
      edited(nan_l2(), [](BaselineCase& c) { c.l2_rate = 2.0; }), {{"l2_rate", 0, false}}},
     // 11 nodes only in the baseline, 81 new in this run.
     {"ResolutionInOnlyOneSide",
-     drifted([](BaselineCase& c) { 
+     drifted([](BaselineCase& c) {
        c.resolutions.insert(c.resolutions.begin(), {11, 1, 1, 1, 1});
      }),
      drifted([](BaselineCase& c) { c.resolutions.push_back({81, 6e-4, 2.5e-2, 6e-5, 2.5e-3}); }),
