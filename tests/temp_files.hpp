@@ -1,5 +1,5 @@
-/// File helpers of the report and time-series tests: a fresh directory per test, whole-file
-/// reads and sorted directory listings.
+/// File helpers of the tests that write files (reports, time series, ledger, manifest): a
+/// fresh directory per test, whole-file reads and sorted directory listings.
 #pragma once
 #include <algorithm>
 #include <filesystem>
