@@ -1,5 +1,5 @@
-/// File helpers of the report and time-series tests: a fresh directory per test, whole-file
-/// reads and sorted directory listings.
+/// File helpers of the tests that write files (reports, time series, ledger, manifest): a
+/// fresh directory per test, whole-file reads and sorted directory listings.
 #pragma once
 #include <algorithm>
 #include <filesystem>
@@ -19,12 +19,14 @@ namespace mfv::test {
 /// A fresh directory per test, removed afterwards, so tests cannot see each other's files.
 class TempDir {
  public:
-  /// <tmp>/<prefix>-<pid>-<suite>-<test>
+  /// <tmp>/<prefix>-<pid>-<suite>-<test>, one folder: the '/' of parameterised test names
+  /// becomes '_', else the folders above the last '/' would be left behind.
   explicit TempDir(const std::string& prefix) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            (prefix + "-" + std::to_string(::getpid()) + "-" + info->test_suite_name() + "-" +
-             info->name());
+    std::string name = prefix + "-" + std::to_string(::getpid()) + "-" +
+                       info->test_suite_name() + "-" + info->name();
+    std::replace(name.begin(), name.end(), '/', '_');
+    path_ = std::filesystem::temp_directory_path() / name;
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

@@ -1,20 +1,24 @@
 // Unit tests of the verification manifest (verify/manifest.hpp) and the baseline file
 // (verify/baseline.hpp): parsing, the "<file>:<line>: <what>; <fix>" errors, band checks and
-// drift checks. No numerics: studies are built by hand.
-#include <atomic>
+// drift checks. No numerics: studies are built by hand. Most cases are rows of a table (one
+// test per row, named by the row); what fits no table is a test of its own.
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <functional>
 #include <limits>
+#include <optional>
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "methods/core/errors.hpp"
+#include "tests/temp_files.hpp"
 #include "verify/baseline.hpp"
 #include "verify/manifest.hpp"
 
@@ -23,60 +27,56 @@ using namespace mfv;
 
 namespace {
 
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-const double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// A fresh directory per test under the system temp dir, removed afterwards.
-class TempDirTest : public ::testing::Test {
+/// A fresh directory per test (tests/temp_files.hpp) and the files written into it.
+class Files : public ::testing::Test {
  protected:
-  void SetUp() override {
-    static std::atomic<int> counter{0};
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("mfv_test_manifest_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) +
-            "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
   /// Writes `text` to dir/name and returns the path. Line 1 is the first line of `text`.
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-    out.close();
-    EXPECT_TRUE(out) << "cannot write " << p;
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir_.path() / name;
+    test::write_text(p, text);
+    EXPECT_EQ(test::read_file(p), text) << "cannot write " << p;
     return p;
   }
 
-  /// The InputError message of load_manifest(p); a test failure if it does not throw one.
-  static std::string manifest_error(const fs::path& p) {
-    try {
-      load_manifest(p);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    ADD_FAILURE() << "load_manifest(" << p << ") did not throw InputError";
-    return {};
-  }
-
-  static std::string baseline_error(const fs::path& p) {
-    try {
-      load_baseline(p);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    ADD_FAILURE() << "load_baseline(" << p << ") did not throw InputError";
-    return {};
-  }
-
-  fs::path dir_;
+  test::TempDir dir_{"mfv-test-manifest"};
 };
+
+/// A table's fixture: a fresh directory and one row of the table.
+template <class Row>
+class TableTest : public Files, public ::testing::WithParamInterface<Row> {};
+
+/// Names a table's tests by the rows' `name`.
+struct RowName {
+  template <class Row>
+  std::string operator()(const ::testing::TestParamInfo<Row>& info) const {
+    return info.param.name;
+  }
+};
+
+/// A failed row prints as its name rather than as bytes.
+template <class Row>
+  requires requires(const Row& r) { r.name; }
+void PrintTo(const Row& row, std::ostream* os) {
+  *os << row.name;
+}
+
+/// The InputError message of `load()`; a test failure if it does not throw one.
+template <class F>
+std::string error_of(F&& load) {
+  try {
+    load();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return {};
+}
+
+std::string manifest_error(const fs::path& p) { return error_of([&] { load_manifest(p); }); }
+std::string baseline_error(const fs::path& p) { return error_of([&] { load_baseline(p); }); }
 
 /// `msg` has the "<file>:<line>: " prefix and a "; <fix>" part.
 ::testing::AssertionResult AtLine(const std::string& msg, const fs::path& file, int line) {
@@ -92,13 +92,61 @@ bool Contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;
 }
 
-#define EXPECT_HAS(msg, needle) \
-  EXPECT_TRUE(Contains((msg), (needle))) << "expected '" << (needle) << "' in: " << (msg)
+/// `msg` holds every one of `contains` and none of `lacks`.
+void ExpectMessage(const std::string& msg, const std::vector<std::string>& contains,
+                   const std::vector<std::string>& lacks = {}) {
+  for (const auto& s : contains) EXPECT_TRUE(Contains(msg, s)) << "no '" << s << "' in: " << msg;
+  for (const auto& s : lacks) EXPECT_FALSE(Contains(msg, s)) << "'" << s << "' in: " << msg;
+}
+
+/// An expected number of a table row: unchecked when empty, "is NaN" for NaN, else equal to
+/// within `tol` (0: EXPECT_DOUBLE_EQ).
+struct Num {
+  std::optional<double> value;
+  double tol = 0;
+};
+Num eq(double v) { return {v}; }
+Num near(double v, double tol) { return {v, tol}; }
+const Num kIsNaN{kNaN};
+
+void ExpectNum(const char* what, double actual, const Num& e) {
+  if (!e.value) return;
+  if (std::isnan(*e.value))
+    EXPECT_TRUE(std::isnan(actual)) << what << " = " << actual;
+  else if (e.tol > 0)
+    EXPECT_NEAR(actual, *e.value, e.tol) << what;
+  else
+    EXPECT_DOUBLE_EQ(actual, *e.value) << what;
+}
+
+/// `x` after `edit`: a table row's variation of a shared study or baseline case.
+template <class T, class F>
+T edited(T x, F&& edit) {
+  edit(x);
+  return x;
+}
+
+/// A valid case whose header is on the first line; `extra` lines (from line 6) follow `nodes`.
+std::string a_case(const std::string& id, const std::string& extra = "") {
+  return "[[case]]\n"
+         "id = \"" + id + "\"\n"
+         "problem = \"laplace-tanh\"\n"
+         "method = \"fem\"\n"
+         "nodes = [21, 41, 81]\n" + extra;
+}
+
+/// A case with the given `nodes` value on its fifth line.
+std::string case_with_nodes(const std::string& nodes) {
+  return "[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\nnodes = " + nodes + "\n";
+}
+
+/// A case with one [case.bands] line (line 7).
+std::string a_band(const std::string& band) { return a_case("a", "[case.bands]\n" + band + "\n"); }
 
 // ---------------------------------------------------------------------------------------------
 // Parsing a valid manifest
 
-using ManifestTest = TempDirTest;
+using ManifestTest = Files;
 
 const char* kValid =
     "[suite]\n"                                                      // 1
@@ -142,7 +190,8 @@ TEST_F(ManifestTest, ValidManifestParsesEveryKey) {
   EXPECT_EQ(m.path, p);
   EXPECT_EQ(m.name, "nightly");
   EXPECT_EQ(m.description, "nightly 1D verification");
-  EXPECT_EQ(fs::weakly_canonical(m.baseline), fs::weakly_canonical(dir_ / "baselines/nightly.toml"));
+  EXPECT_EQ(fs::weakly_canonical(m.baseline),
+            fs::weakly_canonical(dir_.path() / "baselines/nightly.toml"));
   EXPECT_EQ(m.baseline, p.parent_path() / "../baselines/nightly.toml");
   EXPECT_DOUBLE_EQ(m.drift_tolerance, 0.1);
   EXPECT_DOUBLE_EQ(m.drift_floor, 1e-10);
@@ -164,7 +213,7 @@ TEST_F(ManifestTest, ValidManifestParsesEveryKey) {
   EXPECT_DOUBLE_EQ(a.perturbation, 0.25);
   EXPECT_EQ(a.labels, (std::vector<std::string>{"fast", "fem"}));
 
-  ASSERT_EQ(a.bands.size(), 6u);  // every 1D metric; energy bands: EnergyBandsParse
+  ASSERT_EQ(a.bands.size(), 6u);  // every 1D metric; energy bands: GoodManifests/EnergyBands
   const struct {
     const char* name;
     double low, high;
@@ -207,45 +256,10 @@ TEST_F(ManifestTest, ValidManifestParsesEveryKey) {
   EXPECT_EQ(resolutions(b, true), b.nodes);
 }
 
-TEST_F(ManifestTest, DefaultsWithoutSuiteTable) {
-  const fs::path p = write("my-suite.toml",
-                           "[[case]]\n"
-                           "id = \"a\"\n"
-                           "problem = \"laplace-tanh\"\n"
-                           "method = \"fem\"\n"
-                           "nodes = [2, 3]\n");
-  const Manifest m = load_manifest(p);
-  EXPECT_EQ(m.name, "my-suite");  // the file stem
-  EXPECT_EQ(m.description, "");
-  EXPECT_TRUE(m.baseline.empty());
-  EXPECT_DOUBLE_EQ(m.drift_tolerance, 0.05);
-  EXPECT_DOUBLE_EQ(m.drift_floor, 1e-12);
-  ASSERT_EQ(m.cases.size(), 1u);
-  EXPECT_EQ(m.cases[0].full_nodes, m.cases[0].nodes);
-  EXPECT_TRUE(m.cases[0].problem_params.values().empty());
-  EXPECT_TRUE(m.cases[0].method_params.values().empty());
-}
-
-TEST_F(ManifestTest, SuiteNameDefaultsToStemWhenSuiteHasNoName) {
-  const fs::path p = write("weekly.toml",
-                           "[suite]\n"
-                           "description = \"\"\n"  // an empty description is allowed
-                           "drift_floor = 0\n"     // >= 0 is allowed
-                           "[[case]]\n"
-                           "id = \"a\"\n"
-                           "problem = \"p\"\n"
-                           "method = \"m\"\n"
-                           "nodes = [21]\n");
-  const Manifest m = load_manifest(p);
-  EXPECT_EQ(m.name, "weekly");
-  EXPECT_EQ(m.drift_floor, 0.0);
-}
-
 TEST_F(ManifestTest, AbsoluteBaselinePathIsKept) {
-  const fs::path abs = dir_ / "elsewhere" / "b.toml";
-  const fs::path p = write("sub/m.toml", "[suite]\nbaseline = \"" + abs.string() +
-                                             "\"\n[[case]]\nid = \"a\"\nproblem = \"p\"\n"
-                                             "method = \"m\"\nnodes = [21, 41]\n");
+  const fs::path abs = dir_.path() / "elsewhere" / "b.toml";
+  const fs::path p = write("sub/m.toml", "[suite]\nbaseline = \"" + abs.string() + "\"\n" +
+                                             case_with_nodes("[21, 41]"));
   EXPECT_EQ(load_manifest(p).baseline, abs);
 }
 
@@ -259,7 +273,7 @@ TEST_F(ManifestTest, ExampleManifestLoads) {
   EXPECT_FALSE(m.baseline.empty());
   EXPECT_GE(m.cases.size(), 2u);
   // The example exercises every key: every band metric, a headline band, both param tables,
-  // full_nodes, perturbation and labels appear somewhere.
+  // full_nodes, perturbation, labels and expect appear somewhere.
   std::set<std::string> metrics;
   bool headline = false, problem_params = false, method_params = false, full_nodes = false,
        perturbation = false, labels = false, expect_unstable = false;
@@ -288,16 +302,8 @@ TEST_F(ManifestTest, ExampleManifestLoads) {
 TEST_F(ManifestTest, FindReturnsCaseOrListsValidIds) {
   const Manifest m = load_manifest(write("m.toml", kValid));
   EXPECT_EQ(m.find("advection-diffusion/rkpm").problem, "advection-diffusion");
-  try {
-    m.find("laplace-tanh/efg");
-    FAIL() << "find did not throw";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    EXPECT_HAS(msg, "laplace-tanh/efg");
-    EXPECT_HAS(msg, "m.toml");
-    EXPECT_HAS(msg, "laplace-tanh/fem");
-    EXPECT_HAS(msg, "advection-diffusion/rkpm");
-  }
+  ExpectMessage(error_of([&] { m.find("laplace-tanh/efg"); }),
+                {"laplace-tanh/efg", "m.toml", "laplace-tanh/fem", "advection-diffusion/rkpm"});
 }
 
 TEST(BandMetrics, NamesInReportOrder) {
@@ -307,580 +313,380 @@ TEST(BandMetrics, NamesInReportOrder) {
                                       "energy_rel_finest"}));
 }
 
-TEST_F(ManifestTest, EnergyBandsParse) {
-  const Manifest m = load_manifest(write("e.toml",
-                                         "[suite]\nname = \"e\"\n[[case]]\nid = \"c\"\n"
-                                         "problem = \"cantilever\"\nmethod = \"fem\"\n"
-                                         "nodes = [5, 9]\n[case.bands]\n"
-                                         "energy_rate = [0.9, 1.2]\n"
-                                         "energy_rel_finest = [0.0, 0.1]\n"));
-  ASSERT_EQ(m.cases.size(), 1u);
-  EXPECT_EQ(m.cases[0].bands.at("energy_rate").low, 0.9);
-  EXPECT_EQ(m.cases[0].bands.at("energy_rel_finest").high, 0.1);
-  EXPECT_EQ(m.cases[0].bands.at("energy_rate").line, 9);
+/// A small valid manifest and what it must parse to.
+struct GoodManifest {
+  std::string name, file, text;
+  std::function<void(const Manifest&)> check;
+};
+
+using GoodManifests = TableTest<GoodManifest>;
+
+TEST_P(GoodManifests, Parses) {
+  const Manifest m = load_manifest(write(GetParam().file, GetParam().text));
+  GetParam().check(m);
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Manifest, GoodManifests,
+    ::testing::Values(
+        GoodManifest{"DefaultsWithoutSuiteTable", "my-suite.toml",
+                     "[[case]]\nid = \"a\"\nproblem = \"laplace-tanh\"\nmethod = \"fem\"\n"
+                     "nodes = [2, 3]\n",
+                     [](const Manifest& m) {
+                       EXPECT_EQ(m.name, "my-suite");  // the file stem
+                       EXPECT_EQ(m.description, "");
+                       EXPECT_TRUE(m.baseline.empty());
+                       EXPECT_DOUBLE_EQ(m.drift_tolerance, 0.05);
+                       EXPECT_DOUBLE_EQ(m.drift_floor, 1e-12);
+                       ASSERT_EQ(m.cases.size(), 1u);
+                       EXPECT_EQ(m.cases[0].full_nodes, m.cases[0].nodes);
+                       EXPECT_TRUE(m.cases[0].problem_params.values().empty());
+                       EXPECT_TRUE(m.cases[0].method_params.values().empty());
+                     }},
+        // An empty description and a zero drift_floor are allowed.
+        GoodManifest{"SuiteNameDefaultsToStemWhenSuiteHasNoName", "weekly.toml",
+                     "[suite]\ndescription = \"\"\ndrift_floor = 0\n" + case_with_nodes("[21]"),
+                     [](const Manifest& m) {
+                       EXPECT_EQ(m.name, "weekly");
+                       EXPECT_EQ(m.drift_floor, 0.0);
+                     }},
+        GoodManifest{"EnergyBands", "e.toml",
+                     "[suite]\nname = \"e\"\n[[case]]\nid = \"c\"\nproblem = \"cantilever\"\n"
+                     "method = \"fem\"\nnodes = [5, 9]\n[case.bands]\n"
+                     "energy_rate = [0.9, 1.2]\n"  // 9
+                     "energy_rel_finest = [0.0, 0.1]\n",
+                     [](const Manifest& m) {
+                       ASSERT_EQ(m.cases.size(), 1u);
+                       EXPECT_EQ(m.cases[0].bands.at("energy_rate").low, 0.9);
+                       EXPECT_EQ(m.cases[0].bands.at("energy_rel_finest").high, 0.1);
+                       EXPECT_EQ(m.cases[0].bands.at("energy_rate").line, 9);
+                     }},
+        GoodManifest{"ExpectUnstableOrStable", "m.toml",
+                     a_case("a", "expect = \"unstable\"\n") +
+                         a_case("b", "expect = \"stable\"\n") + a_case("c"),
+                     [](const Manifest& m) {
+                       EXPECT_TRUE(m.cases.at(0).expect_unstable);
+                       EXPECT_FALSE(m.cases.at(1).expect_unstable);
+                       EXPECT_FALSE(m.cases.at(2).expect_unstable);
+                     }}),
+    RowName());
 
 // ---------------------------------------------------------------------------------------------
 // Manifest errors: file, line, what, fix
 
-/// A valid case whose header is on line `first`; `extra` lines are appended after `nodes`.
-std::string a_case(const std::string& id, const std::string& extra = "") {
-  return "[[case]]\n"
-         "id = \"" + id + "\"\n"
-         "problem = \"laplace-tanh\"\n"
-         "method = \"fem\"\n"
-         "nodes = [21, 41, 81]\n" + extra;
-}
+/// A manifest that load_manifest refuses, the line its message names and what it says.
+struct BadManifest {
+  std::string name, text;
+  int line;
+  std::vector<std::string> contains;
+  std::vector<std::string> lacks = {};
+};
 
-TEST_F(ManifestTest, UnknownBandKeySuggestsTheClosest) {
-  const fs::path p = write("typo.toml", a_case("a",
-                                               "[case.bands]\n"      // 6
-                                               "l2_rate = [1, 3]\n"  // 7
-                                               "l2_rte = [1, 3]\n")); // 8
+using BadManifests = TableTest<BadManifest>;
+
+TEST_P(BadManifests, RefusedWithFileLineAndFix) {
+  const fs::path p = write("m.toml", GetParam().text);
   const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 8));
-  EXPECT_HAS(msg, "unknown key 'l2_rte'");
-  EXPECT_HAS(msg, "did you mean 'l2_rate'?");
-  EXPECT_HAS(msg, "h1_rel_finest");  // the valid keys are listed
-  EXPECT_HAS(msg, "headline");
+  EXPECT_TRUE(AtLine(msg, p, GetParam().line));
+  ExpectMessage(msg, GetParam().contains, GetParam().lacks);
 }
 
-TEST_F(ManifestTest, UnknownCaseKeySuggestsTheClosest) {
+/// A manifest whose second case (header on line 7) lacks one required key.
+std::string second_case(const std::string& text) { return a_case("first") + "\n" + text; }
+
+/// A [suite] table with one `setting` (line 3).
+std::string suite_with(const std::string& setting) {
+  return "[suite]\nname = \"s\"\n" + setting + "\n" + a_case("a");
+}
+
+const std::vector<BadManifest> kBadManifests = {
+    {"UnknownBandKeySuggestsTheClosest",
+     a_case("a", "[case.bands]\nl2_rate = [1, 3]\nl2_rte = [1, 3]\n"), 8,
+     {"unknown key 'l2_rte'", "did you mean 'l2_rate'?", "h1_rel_finest", "headline"}},
+    {"UnknownCaseKey", a_case("a", "nodez_full = [1]\n"), 6,
+     {"unknown key 'nodez_full'", "[[case]] 'a'"}},
+    {"UnknownCaseKeySuggestsTheClosest", a_case("a", "perturbaton = 0.1\n"), 6,
+     {"did you mean 'perturbation'?", "[[case]] 'a'"}},
+    {"UnknownKeyWithoutCloseMatchListsValidKeys", "[suite]\ncolour = \"blue\"\n" + a_case("a"), 2,
+     {"unknown key 'colour' in [suite]",
+      "valid keys: name, description, baseline, drift_tolerance, drift_floor"},
+     {"did you mean"}},
+    {"UnknownTopLevelKey", a_case("a") + "[[cases]]\nid = \"b\"\n", 6,
+     {"unknown key 'cases'", "did you mean 'case'?"}},
+    {"MissingId", second_case("[[case]]\nproblem = \"p\"\nmethod = \"m\"\nnodes = [21, 41]\n"), 7,
+     {"has no 'id'", "add the required key"}},
+    {"MissingProblem", second_case("[[case]]\nid = \"a\"\nmethod = \"m\"\nnodes = [21, 41]\n"), 7,
+     {"has no 'problem'", "add the required key"}},
+    {"MissingMethod", second_case("[[case]]\nid = \"a\"\nproblem = \"p\"\nnodes = [21, 41]\n"), 7,
+     {"has no 'method'", "add the required key"}},
+    {"MissingNodes", second_case("[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"), 7,
+     {"has no 'nodes'", "add the required key"}},
+    {"NoCases", "[suite]\nname = \"x\"\n", 1, {"[[case]]"}},
+    {"CaseMustBeArrayOfTables", "case = \"laplace\"\n", 1, {"array of tables"}},
+    {"DuplicateId", a_case("same") + "\n" + a_case("other") + "\n" + a_case("same"), 13,
+     {"duplicate case id 'same'", "line 1", "unique"}},
+    {"IdWithSpace", "\n" + a_case("laplace tanh"), 3, {"white space"}},
+    {"IdWithTab", "\n" + a_case("a\\tb"), 3, {"white space"}},
+    {"IdWithLeadingSpace", "\n" + a_case(" lead"), 3, {"white space"}},
+    {"EmptyId", a_case(""), 2, {"'id' is empty"}},
+    {"WrongTypeNamesTheType",
+     "[[case]]\nid = \"a\"\nproblem = 3\nmethod = \"m\"\nnodes = [21, 41]\n", 3,
+     {"'problem' must be a string, got an integer"}},
+    {"NodesNotIncreasing", case_with_nodes("[\n  21,\n  41,\n  41,\n]"), 8,  // the second 41
+     {"'nodes' is not increasing (41 after 41)", "increasing integers >= 2"}},
+    {"FullNodesDecreasing", a_case("a", "full_nodes = [81, 41]\n"), 6,
+     {"'full_nodes' is not increasing (41 after 81)"}},
+    {"NodesOne", "\n\n" + case_with_nodes("[1, 21]"), 7, {"not a node count >= 2"}},
+    {"NodesZero", "\n\n" + case_with_nodes("[0]"), 7, {"not a node count >= 2"}},
+    {"NodesNegative", "\n\n" + case_with_nodes("[-5, 21]"), 7, {"not a node count >= 2"}},
+    {"NodesEmpty", case_with_nodes("[]"), 5, {"'nodes' is empty"}},
+    {"NodesNotIntegers", case_with_nodes("[21, 41.0]"), 5,
+     {"'nodes' must hold integers, got a number"}},
+    {"NodesNotAnArray", case_with_nodes("21"), 5, {"'nodes' must be an array, got an integer"}},
+    {"BandLowAboveHigh", a_case("a", "[case.bands]\nl2_rate = [1.9, 2.1]\nh1_rate = [1.1, 0.9]\n"),
+     8, {"band 'h1_rate' has low 1.1 > high 0.9", "swap them"}},
+    {"HeadlineBandLowAboveHigh", a_band("headline = { \"peak\" = [2, 1] }"), 7,
+     {"peak", "low 2 > high 1"}},
+    {"BandOfOneNumber", a_band("l2_finest = [0.1]"), 7, {"has 1 elements, not 2"}},
+    {"BandOfThreeNumbers", a_band("l2_finest = [0, 1, 2]"), 7, {"has 3 elements, not 2"}},
+    {"BandNotAnArray", a_band("l2_finest = 0.1"), 7, {"must be an array, got a number"}},
+    {"BandOfAString", a_band("l2_finest = [0, \"x\"]"), 7, {"must hold two numbers"}},
+    {"BandHoldsNan", a_band("l2_finest = [nan, 1]"), 7, {"holds nan"}},
+    {"HeadlineNotATable", a_band("headline = [1, 2]"), 7, {"'headline' must be a table"}},
+    // Every value of these is inf or NaN, which never pass.
+    {"BandAdmitsOnlyInf", a_band("l2_finest = [inf, inf]"), 7, {"l2_finest"}},
+    {"BandAdmitsOnlyMinusInf", a_band("l2_finest = [-inf, -inf]"), 7, {"l2_finest"}},
+    {"BandFromNan", a_band("l2_finest = [nan, 1.0]"), 7, {"l2_finest"}},
+    // Named at the case header (line 2 and 1).
+    {"RateBandNeedsTwoResolutions",
+     "\n" + case_with_nodes("[21]") + "[case.bands]\nl2_rate = [1, 3]\n",
+     2, {"rate band", "at least two resolutions"}},
+    {"RateBandNeedsTwoFullResolutions",
+     a_case("a", "full_nodes = [81]\n[case.bands]\nh1_rate = [1, 3]\n"), 1,
+     {"rate band", "at least two resolutions"}},
+    {"TomlSyntaxError",
+     "[[case]]\nid = \"a\"\nproblem = laplace-tanh\nmethod = \"m\"\nnodes = [21, 41]\n", 3,
+     {"fix the TOML syntax"}},
+    {"TomlSyntaxErrorDuplicateKey", a_case("a", "method = \"efg\"\n"), 6, {"TOML syntax"}},
+    {"NegativePerturbation", a_case("a", "perturbation = -0.1\n"), 6,
+     {"perturbation -0.1 is negative", ">= 0"}},
+    {"InfinitePerturbation", a_case("a", "perturbation = inf\n"), 6, {"finite"}},
+    {"DriftToleranceZero", suite_with("drift_tolerance = 0"), 3,
+     {"drift_tolerance", "not positive"}},
+    {"DriftToleranceZeroPointZero", suite_with("drift_tolerance = 0.0"), 3,
+     {"drift_tolerance", "not positive"}},
+    {"DriftToleranceNegative", suite_with("drift_tolerance = -0.05"), 3,
+     {"drift_tolerance", "not positive"}},
+    {"DriftFloorNegative", "[suite]\ndrift_floor = -1e-12\n" + a_case("a"), 2,
+     {"drift_floor", "negative"}},
+    {"ParameterOfUnsupportedType", a_case("a", "method_params = { list = [1, 2] }\n"), 6,
+     {"parameter 'list' in 'method_params' is an array"}},
+    {"ExpectOtherWord", a_case("a", "expect = \"blows up\"\n"), 6, {"expect"}},
+    {"ExpectBoolean", a_case("a", "expect = true\n"), 6, {"expect"}},
+};
+
+INSTANTIATE_TEST_SUITE_P(Manifest, BadManifests, ::testing::ValuesIn(kBadManifests), RowName());
+
+TEST_F(ManifestTest, TwoUnknownCaseKeysNameTheLineOfTheOneReported) {
+  // Either key may be reported first (table order), but the line must match the key.
   const fs::path p = write("m.toml", a_case("a") + "nodez_full = [1]\n" + "perturbaton = 0.1\n");
   const std::string msg = manifest_error(p);
-  // Either key may be reported first (table order), but the line must match the key.
   if (Contains(msg, "perturbaton")) {
     EXPECT_TRUE(AtLine(msg, p, 7));
-    EXPECT_HAS(msg, "did you mean 'perturbation'?");
+    ExpectMessage(msg, {"did you mean 'perturbation'?", "[[case]] 'a'"});
   } else {
     EXPECT_TRUE(AtLine(msg, p, 6));
-    EXPECT_HAS(msg, "unknown key 'nodez_full'");
+    ExpectMessage(msg, {"unknown key 'nodez_full'", "[[case]] 'a'"});
   }
-  EXPECT_HAS(msg, "[[case]] 'a'");
-}
-
-TEST_F(ManifestTest, UnknownKeyWithoutCloseMatchListsValidKeys) {
-  const fs::path p = write("m.toml", "[suite]\n"
-                                     "colour = \"blue\"\n" +
-                                         a_case("a"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 2));
-  EXPECT_HAS(msg, "unknown key 'colour' in [suite]");
-  EXPECT_FALSE(Contains(msg, "did you mean")) << msg;
-  EXPECT_HAS(msg, "valid keys: name, description, baseline, drift_tolerance, drift_floor");
-}
-
-TEST_F(ManifestTest, UnknownTopLevelKey) {
-  const fs::path p = write("m.toml", a_case("a") + "[[cases]]\nid = \"b\"\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "unknown key 'cases'");
-  EXPECT_HAS(msg, "did you mean 'case'?");
-}
-
-TEST_F(ManifestTest, MissingRequiredKeys) {
-  struct Missing {
-    std::string key, text;
-  };
-  const std::vector<Missing> cases = {
-      {"id", "[[case]]\nproblem = \"p\"\nmethod = \"m\"\nnodes = [21, 41]\n"},
-      {"problem", "[[case]]\nid = \"a\"\nmethod = \"m\"\nnodes = [21, 41]\n"},
-      {"method", "[[case]]\nid = \"a\"\nproblem = \"p\"\nnodes = [21, 41]\n"},
-      {"nodes", "[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.key);
-    // A valid first case so that the failing case's header is on line 7.
-    const fs::path p = write("missing-" + c.key + ".toml", a_case("first") + "\n" + c.text);
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 7));
-    EXPECT_HAS(msg, "has no '" + c.key + "'");
-    EXPECT_HAS(msg, "add the required key");
-  }
-}
-
-TEST_F(ManifestTest, NoCases) {
-  const fs::path p = write("m.toml", "[suite]\nname = \"x\"\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 1));
-  EXPECT_HAS(msg, "[[case]]");
-}
-
-TEST_F(ManifestTest, CaseMustBeArrayOfTables) {
-  const fs::path p = write("m.toml", "case = \"laplace\"\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 1));
-  EXPECT_HAS(msg, "array of tables");
-}
-
-TEST_F(ManifestTest, DuplicateId) {
-  const fs::path p = write("dup.toml", a_case("same") + "\n" + a_case("other") + "\n" +
-                                           a_case("same"));  // headers on lines 1, 7, 13
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 13));
-  EXPECT_HAS(msg, "duplicate case id 'same'");
-  EXPECT_HAS(msg, "line 1");
-  EXPECT_HAS(msg, "unique");
-}
-
-TEST_F(ManifestTest, IdWithWhiteSpace) {
-  for (const std::string id : {"laplace tanh", "a\\tb", " lead"}) {
-    SCOPED_TRACE(id);
-    const fs::path p = write("ws.toml", "\n" + a_case(id));
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 3));
-    EXPECT_HAS(msg, "white space");
-  }
-}
-
-TEST_F(ManifestTest, EmptyId) {
-  const fs::path p = write("m.toml", a_case(""));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 2));
-  EXPECT_HAS(msg, "'id' is empty");
-}
-
-TEST_F(ManifestTest, WrongTypeNamesTheType) {
-  const fs::path p = write("m.toml", "[[case]]\nid = \"a\"\nproblem = 3\nmethod = \"m\"\n"
-                                     "nodes = [21, 41]\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 3));
-  EXPECT_HAS(msg, "'problem' must be a string, got an integer");
-}
-
-TEST_F(ManifestTest, NodesNotIncreasing) {
-  const fs::path p = write("nodes.toml",
-                           "[[case]]\n"
-                           "id = \"a\"\n"
-                           "problem = \"p\"\n"
-                           "method = \"m\"\n"
-                           "nodes = [\n"  // 5
-                           "  21,\n"      // 6
-                           "  41,\n"      // 7
-                           "  41,\n"      // 8: the offending entry
-                           "]\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 8));
-  EXPECT_HAS(msg, "'nodes' is not increasing (41 after 41)");
-  EXPECT_HAS(msg, "increasing integers >= 2");
-}
-
-TEST_F(ManifestTest, FullNodesDecreasing) {
-  const fs::path p = write("m.toml", a_case("a", "full_nodes = [81, 41]\n"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "'full_nodes' is not increasing (41 after 81)");
-}
-
-TEST_F(ManifestTest, NodesBelowTwo) {
-  for (const std::string nodes : {"[1, 21]", "[0]", "[-5, 21]"}) {
-    SCOPED_TRACE(nodes);
-    const fs::path p = write("m.toml", "\n\n[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"
-                                       "nodes = " + nodes + "\n");
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 7));
-    EXPECT_HAS(msg, "not a node count >= 2");
-  }
-}
-
-TEST_F(ManifestTest, NodesEmptyOrNotIntegers) {
-  {
-    const fs::path p = write("m.toml", "[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"
-                                       "nodes = []\n");
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 5));
-    EXPECT_HAS(msg, "'nodes' is empty");
-  }
-  {
-    const fs::path p = write("m.toml", "[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"
-                                       "nodes = [21, 41.0]\n");
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 5));
-    EXPECT_HAS(msg, "'nodes' must hold integers, got a number");
-  }
-  {
-    const fs::path p = write("m.toml", "[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"
-                                       "nodes = 21\n");
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 5));
-    EXPECT_HAS(msg, "'nodes' must be an array, got an integer");
-  }
-}
-
-TEST_F(ManifestTest, BandLowAboveHigh) {
-  const fs::path p = write("band.toml", a_case("a",
-                                               "[case.bands]\n"          // 6
-                                               "l2_rate = [1.9, 2.1]\n"  // 7
-                                               "h1_rate = [1.1, 0.9]\n"  // 8
-                                               ));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 8));
-  EXPECT_HAS(msg, "band 'h1_rate' has low 1.1 > high 0.9");
-  EXPECT_HAS(msg, "swap them");
-}
-
-TEST_F(ManifestTest, HeadlineBandLowAboveHigh) {
-  const fs::path p = write("m.toml", a_case("a",
-                                            "[case.bands]\n"
-                                            "headline = { \"peak\" = [2, 1] }\n"));  // 7
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 7));
-  EXPECT_HAS(msg, "peak");
-  EXPECT_HAS(msg, "low 2 > high 1");
-}
-
-TEST_F(ManifestTest, MalformedBands) {
-  const struct {
-    const char* band;
-    const char* expect;
-  } cases[] = {{"l2_finest = [0.1]", "has 1 elements, not 2"},
-               {"l2_finest = [0, 1, 2]", "has 3 elements, not 2"},
-               {"l2_finest = 0.1", "must be an array, got a number"},
-               {"l2_finest = [0, \"x\"]", "must hold two numbers"},
-               {"l2_finest = [nan, 1]", "holds nan"},
-               {"headline = [1, 2]", "'headline' must be a table"}};
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.band);
-    const fs::path p = write("m.toml", a_case("a", std::string("[case.bands]\n") + c.band + "\n"));
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 7));
-    EXPECT_HAS(msg, c.expect);
-  }
-}
-
-TEST_F(ManifestTest, RateBandNeedsTwoResolutions) {
-  const fs::path p = write("m.toml", "\n[[case]]\nid = \"a\"\nproblem = \"p\"\nmethod = \"m\"\n"
-                                     "nodes = [21]\n[case.bands]\nl2_rate = [1, 3]\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 2));
-  EXPECT_HAS(msg, "rate band");
-  EXPECT_HAS(msg, "at least two resolutions");
-
-  // Also when only full_nodes has a single resolution.
-  const fs::path q = write("m2.toml", a_case("a", "full_nodes = [81]\n[case.bands]\n"
-                                                  "h1_rate = [1, 3]\n"));
-  EXPECT_TRUE(AtLine(manifest_error(q), q, 1));
-}
-
-TEST_F(ManifestTest, TomlSyntaxError) {
-  const fs::path p = write("syntax.toml",
-                           "[[case]]\n"
-                           "id = \"a\"\n"
-                           "problem = laplace-tanh\n"  // 3: unquoted string
-                           "method = \"m\"\n"
-                           "nodes = [21, 41]\n");
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 3));
-  EXPECT_HAS(msg, "fix the TOML syntax");
-}
-
-TEST_F(ManifestTest, TomlSyntaxErrorDuplicateKey) {
-  const fs::path p = write("m.toml", a_case("a", "method = \"efg\"\n"));  // 6: 'method' again
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "TOML syntax");
 }
 
 TEST_F(ManifestTest, MissingFileNamesThePath) {
-  const fs::path p = dir_ / "no-such-manifest.toml";
-  const std::string msg = manifest_error(p);
-  EXPECT_HAS(msg, p.string());
-  EXPECT_HAS(msg, "cannot read manifest");
-  EXPECT_HAS(msg, std::strerror(ENOENT));
-  EXPECT_HAS(msg, "; ");
+  const fs::path p = dir_.path() / "no-such-manifest.toml";
+  ExpectMessage(manifest_error(p),
+                {p.string(), "cannot read manifest", std::strerror(ENOENT), "; "});
 }
 
-TEST(ReadTextFile, ReadsWholeFileAndNamesMissingPath) {
-  const fs::path p = fs::temp_directory_path() /
-                     ("mfv_read_text_" + std::to_string(::getpid()) + ".txt");
+TEST_F(ManifestTest, ReadTextFileReadsWholeFileAndNamesMissingPath) {
   std::string big(20000, 'x');  // more than one read buffer
   big += "\nend";
-  {
-    std::ofstream(p, std::ios::binary) << big;
-  }
+  const fs::path p = write("text.txt", big);
   EXPECT_EQ(detail::read_text_file(p, "thing", "hint"), big);
   fs::remove(p);
-  try {
-    detail::read_text_file(p, "thing", "do this");
-    FAIL() << "no throw";
-  } catch (const InputError& e) {
-    const std::string msg = e.what();
-    EXPECT_HAS(msg, "cannot read thing " + p.string());
-    EXPECT_HAS(msg, "; do this");
-  }
-}
-
-TEST_F(ManifestTest, NegativePerturbation) {
-  const fs::path p = write("m.toml", a_case("a", "perturbation = -0.1\n"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "perturbation -0.1 is negative");
-  EXPECT_HAS(msg, ">= 0");
-}
-
-TEST_F(ManifestTest, NonFinitePerturbation) {
-  const fs::path p = write("m.toml", a_case("a", "perturbation = inf\n"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "finite");
-}
-
-TEST_F(ManifestTest, DriftToleranceMustBePositive) {
-  for (const std::string v : {"0", "0.0", "-0.05"}) {
-    SCOPED_TRACE(v);
-    const fs::path p = write("m.toml", "[suite]\nname = \"s\"\ndrift_tolerance = " + v + "\n" +
-                                           a_case("a"));
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 3));
-    EXPECT_HAS(msg, "drift_tolerance");
-    EXPECT_HAS(msg, "not positive");
-  }
-}
-
-TEST_F(ManifestTest, DriftFloorMustBeNonNegative) {
-  const fs::path p = write("m.toml", "[suite]\ndrift_floor = -1e-12\n" + a_case("a"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 2));
-  EXPECT_HAS(msg, "drift_floor");
-  EXPECT_HAS(msg, "negative");
-}
-
-TEST_F(ManifestTest, ParameterOfUnsupportedType) {
-  const fs::path p = write("m.toml", a_case("a", "method_params = { list = [1, 2] }\n"));
-  const std::string msg = manifest_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "parameter 'list' in 'method_params' is an array");
+  ExpectMessage(error_of([&] { detail::read_text_file(p, "thing", "do this"); }),
+                {"cannot read thing " + p.string(), "; do this"});
 }
 
 // ---------------------------------------------------------------------------------------------
 // check_bands
 
-class CheckBandsTest : public TempDirTest {
- protected:
-  /// A 3-resolution study: L2 errors quarter and H1 errors halve per refinement (finest: l2
-  /// 2.5e-4, l2_rel 1.25e-4, h1 0.1, h1_rel 0.01); rates l2 = 2, h1 = 1.
-  static StudyResult study(int resolutions = 3) {
-    StudyResult s;
-    s.label = "fem";
-    const int nodes[] = {21, 41, 81};
-    for (int i = 0; i < resolutions; ++i) {
-      CaseResult r;
-      r.spec.problem = "laplace-tanh";
-      r.spec.method = "fem";
-      r.spec.nodes = nodes[i];
-      r.h = 6.0 / (nodes[i] - 1);
-      const double f = std::pow(0.5, i);
-      r.errors.l2 = 4e-3 * f * f;
-      r.errors.l2_rel = 2e-3 * f * f;
-      r.errors.h1_semi = 0.4 * f;
-      r.errors.h1_semi_rel = 0.04 * f;
-      r.headline["peak du/dx at x=3"] = 9.6 + 0.3 * i;  // 9.6, 9.9, 10.2
-      r.headline["u at x=5"] = 0.5;
-      s.cases.push_back(r);
-    }
-    s.rates.l2 = 2.0;
-    s.rates.h1_semi = 1.0;
-    // A different paper-rule rate: check_bands must use the common rule.
-    s.rates_paper.l2 = 99;
-    s.rates_paper.h1_semi = 99;
-    return s;
+/// A 3-resolution study: L2 errors quarter and H1 errors halve per refinement (finest: l2
+/// 2.5e-4, l2_rel 1.25e-4, h1 0.1, h1_rel 0.01); rates l2 = 2, h1 = 1.
+StudyResult study(int resolutions = 3) {
+  StudyResult s;
+  s.label = "fem";
+  const int nodes[] = {21, 41, 81};
+  for (int i = 0; i < resolutions; ++i) {
+    CaseResult r;
+    r.spec.problem = "laplace-tanh";
+    r.spec.method = "fem";
+    r.spec.nodes = nodes[i];
+    r.h = 6.0 / (nodes[i] - 1);
+    const double f = std::pow(0.5, i);
+    r.errors.l2 = 4e-3 * f * f;
+    r.errors.l2_rel = 2e-3 * f * f;
+    r.errors.h1_semi = 0.4 * f;
+    r.errors.h1_semi_rel = 0.04 * f;
+    r.headline["peak du/dx at x=3"] = 9.6 + 0.3 * i;  // 9.6, 9.9, 10.2
+    r.headline["u at x=5"] = 0.5;
+    s.cases.push_back(r);
   }
+  s.rates.l2 = 2.0;
+  s.rates.h1_semi = 1.0;
+  // A different paper-rule rate: check_bands must use the common rule.
+  s.rates_paper.l2 = 99;
+  s.rates_paper.h1_semi = 99;
+  return s;
+}
 
-  /// A one-case manifest with the given [case.bands] lines (the first band on line 7) and
-  /// its case.
-  ManifestCase with_bands(const std::string& bands) {
-    file_ = write("bands.toml", a_case("laplace-tanh/fem", "[case.bands]\n" + bands));
-    manifest_ = load_manifest(file_);
-    return manifest_.cases.at(0);
-  }
+// The bands that study() meets, but l2_rate (line 7), from line 8 on.
+const std::string kOtherInsideBands =
+    "h1_rate = [0.9, 1.1]\n"                                  // 8
+    "l2_finest = [0.0, 2e-3]\n"                               // 9
+    "h1_finest = [0.0, 0.3]\n"                                // 10
+    "l2_rel_finest = [0.0, 1e-3]\n"                           // 11
+    "h1_rel_finest = [0.0, 1e-2]\n"                           // 12
+    "headline = { \"peak du/dx at x=3\" = [10.0, 10.5] }\n";  // 13
+const std::string kInsideBands = "l2_rate = [1.9, 2.1]\n" + kOtherInsideBands;
+// The first resolution is outside every _finest band, the last inside.
+const std::string kFinestBands =
+    "l2_finest = [0.0, 1.5e-3]\nh1_finest = [0.0, 0.15]\n"
+    "l2_rel_finest = [0.0, 6e-4]\nh1_rel_finest = [0.0, 0.015]\n";  // 7 to 10
+const std::string kUnknownHeadline = "headline = { \"peak du/dx at x=4\" = [9, 11] }\n";
 
-  fs::path file_;
-  Manifest manifest_;
+struct ExpectedViolation {
+  std::string metric;
+  Num value;
+  int line;  ///< the band's line in the manifest
+  std::vector<std::string> contains = {}, lacks = {};
+  Num low = {}, high = {};
 };
 
-const char* kInsideBands =
-    "l2_rate = [1.9, 2.1]\n"                            // 7
-    "h1_rate = [0.9, 1.1]\n"                            // 8
-    "l2_finest = [0.0, 2e-3]\n"                         // 9
-    "h1_finest = [0.0, 0.3]\n"                          // 10
-    "l2_rel_finest = [0.0, 1e-3]\n"                     // 11
-    "h1_rel_finest = [0.0, 1e-2]\n"                     // 12
-    "headline = { \"peak du/dx at x=3\" = [10.0, 10.5] }\n";  // 13
+/// [case.bands] lines of case "laplace-tanh/fem" (the first on line 7), a study and the
+/// violations check_bands finds, in order.
+struct BandCheck {
+  std::string name, bands;
+  StudyResult study;
+  std::vector<ExpectedViolation> violations;
+  std::string file = "bands.toml";  ///< the manifest name printed in messages
+};
 
-TEST_F(CheckBandsTest, InsideBandsGivesNoViolations) {
-  const ManifestCase c = with_bands(kInsideBands);
-  ASSERT_EQ(c.bands.size(), 6u);
-  const auto v = check_bands(c, study(), "bands.toml");
-  EXPECT_TRUE(v.empty()) << v.size() << " violations, first: " << (v.empty() ? "" : v[0].message);
-}
+using BandChecks = TableTest<BandCheck>;
 
-TEST_F(CheckBandsTest, BandEdgesAreInside) {
-  const ManifestCase c = with_bands("l2_rate = [2.0, 2.0]\nl2_finest = [2.5e-4, 2.5e-4]\n"
-                                    "headline = { \"peak du/dx at x=3\" = [10.2, 10.2] }\n");
-  StudyResult s = study();
-  s.cases.back().headline["peak du/dx at x=3"] = 10.2;
-  const auto v = check_bands(c, s, "bands.toml");
-  EXPECT_TRUE(v.empty()) << v.size() << " violations, first: " << (v.empty() ? "" : v[0].message);
-}
-
-TEST_F(CheckBandsTest, TightenedRateBandGivesOneViolation) {
-  ManifestCase c = with_bands(kInsideBands);
-  c.bands["l2_rate"].low = 2.05;  // the measured 2.0 is now below the band
-  StudyResult s = study();
-  s.rates.l2 = 1.987654;
-  const auto v = check_bands(c, s, "suites/nightly.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].case_id, "laplace-tanh/fem");
-  EXPECT_EQ(v[0].metric, "l2_rate");
-  EXPECT_DOUBLE_EQ(v[0].value, 1.987654);
-  EXPECT_DOUBLE_EQ(v[0].band.low, 2.05);
-  EXPECT_DOUBLE_EQ(v[0].band.high, 2.1);
-  EXPECT_EQ(v[0].band.line, 7);
-  EXPECT_HAS(v[0].message, "laplace-tanh/fem");
-  EXPECT_HAS(v[0].message, "l2_rate");
-  EXPECT_HAS(v[0].message, "1.988");
-  EXPECT_HAS(v[0].message, "suites/nightly.toml:7");
-  EXPECT_HAS(v[0].message, "2.05");
-}
-
-TEST_F(CheckBandsTest, UsesCommonRuleRates) {
-  const ManifestCase c = with_bands("h1_rate = [0.9, 1.1]\n");
-  StudyResult s = study();
-  s.rates.h1_semi = 1.5;
-  s.rates_paper.h1_semi = 1.0;
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].metric, "h1_rate");
-  EXPECT_DOUBLE_EQ(v[0].value, 1.5);
-}
-
-TEST_F(CheckBandsTest, FinestMetricsUseTheLastResolution) {
-  // The first resolution is outside every _finest band, the last inside: no violations.
-  const ManifestCase c = with_bands("l2_finest = [0.0, 1.5e-3]\nh1_finest = [0.0, 0.15]\n"
-                                    "l2_rel_finest = [0.0, 6e-4]\nh1_rel_finest = [0.0, 0.015]\n");
-  EXPECT_TRUE(check_bands(c, study(), "bands.toml").empty());
-
-  StudyResult s = study();
-  s.cases.back().errors.h1_semi_rel = 0.02;
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].metric, "h1_rel_finest");
-  EXPECT_DOUBLE_EQ(v[0].value, 0.02);
-  EXPECT_EQ(v[0].band.line, 10);
-  EXPECT_HAS(v[0].message, "bands.toml:10");
-}
-
-TEST_F(CheckBandsTest, FullStudyChecksFinestBandsAtTheDefaultFinest) {
-  // --full adds a finer resolution; the _finest bands still apply to the last of `nodes`.
-  const ManifestCase c = with_bands("l2_rel_finest = [1e-4, 6e-4]\n");
-  StudyResult s = study();
-  ASSERT_EQ(s.cases.back().spec.nodes, c.nodes.back());
-  CaseResult finer = s.cases.back();
-  finer.spec.nodes = 2 * c.nodes.back();
-  finer.errors.l2_rel = 1e-6;  // outside the band, but not the resolution it was written for
-  s.cases.push_back(finer);
-  EXPECT_TRUE(check_bands(c, s, "bands.toml").empty());
-}
-
-TEST_F(CheckBandsTest, PrintedValueIsVisiblyOutside) {
-  const ManifestCase c = with_bands("l2_rate = [1.9, 2.1]\n");
-  StudyResult s = study();
-  s.rates.l2 = 1.89996;  // "1.9" with 4 or 5 digits would contradict the message
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_HAS(v[0].message, "1.89996");
-  EXPECT_FALSE(Contains(v[0].message, "= 1.9 ")) << v[0].message;
-}
-
-TEST_F(CheckBandsTest, NaNViolatesEvenAnUnboundedBand) {
-  const ManifestCase c = with_bands("l2_finest = [-inf, inf]\nh1_rate = [-inf, inf]\n");
-  StudyResult s = study();
-  s.cases.back().errors.l2 = kNaN;
-  s.rates.h1_semi = kNaN;
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 2u);
-  // band_metrics() order: h1_rate before l2_finest.
-  EXPECT_EQ(v[0].metric, "h1_rate");
-  EXPECT_EQ(v[1].metric, "l2_finest");
-  for (const auto& x : v) {
-    EXPECT_TRUE(std::isnan(x.value));
-    EXPECT_HAS(x.message, "laplace-tanh/fem");
-    EXPECT_HAS(x.message, "not a number");
-    EXPECT_HAS(x.message, "bands.toml:");
+TEST_P(BandChecks, FindsTheViolations) {
+  const BandCheck& r = GetParam();
+  const Manifest m =
+      load_manifest(write("bands.toml", a_case("laplace-tanh/fem", "[case.bands]\n" + r.bands)));
+  const ManifestCase& c = m.cases.at(0);
+  // One band a line, each headline table holding one.
+  const auto lines = std::count(r.bands.begin(), r.bands.end(), '\n');
+  const auto headlines = std::count(r.bands.begin(), r.bands.end(), '{');
+  ASSERT_EQ(c.bands.size(), static_cast<std::size_t>(lines - headlines));
+  ASSERT_EQ(c.headline_bands.size(), static_cast<std::size_t>(headlines));
+  const auto v = check_bands(c, r.study, r.file);
+  ASSERT_EQ(v.size(), r.violations.size()) << "first: " << (v.empty() ? "" : v[0].message);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const ExpectedViolation& e = r.violations[i];
+    SCOPED_TRACE(e.metric);
+    EXPECT_EQ(v[i].case_id, "laplace-tanh/fem");
+    EXPECT_EQ(v[i].metric, e.metric);
+    ExpectNum("value", v[i].value, e.value);
+    EXPECT_EQ(v[i].band.line, e.line);
+    ExpectNum("band.low", v[i].band.low, e.low);
+    ExpectNum("band.high", v[i].band.high, e.high);
+    ExpectMessage(v[i].message, e.contains, e.lacks);
   }
-  EXPECT_HAS(v[1].message, "l2_finest");
-  EXPECT_HAS(v[1].message, "bands.toml:7");
 }
 
-TEST_F(CheckBandsTest, NaNHeadlineViolates) {
-  const ManifestCase c = with_bands("headline = { \"peak du/dx at x=3\" = [-inf, inf] }\n");
-  StudyResult s = study();
-  s.cases.back().headline["peak du/dx at x=3"] = kNaN;
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].metric, "headline:peak du/dx at x=3");
-  EXPECT_TRUE(std::isnan(v[0].value));
-}
+const std::string kPeak = "headline:peak du/dx at x=3";
 
-TEST_F(CheckBandsTest, HeadlineOutsideBand) {
-  const ManifestCase c = with_bands("headline = { \"peak du/dx at x=3\" = [9.7, 9.9] }\n");
-  const auto v = check_bands(c, study(), "bands.toml");  // finest: 10.2 (9.9 is the middle)
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].metric, "headline:peak du/dx at x=3");
-  EXPECT_NEAR(v[0].value, 10.2, 1e-12);
-  EXPECT_HAS(v[0].message, "peak du/dx at x=3");
-  EXPECT_HAS(v[0].message, "10.2");
-  EXPECT_HAS(v[0].message, "bands.toml:7");
-}
+const std::vector<BandCheck> kBandChecks = {
+    {"InsideBandsGivesNoViolations", kInsideBands, study(), {}},
+    {"BandEdgesAreInside",
+     "l2_rate = [2.0, 2.0]\nl2_finest = [2.5e-4, 2.5e-4]\n"
+     "headline = { \"peak du/dx at x=3\" = [10.2, 10.2] }\n",
+     edited(study(), [](StudyResult& s) { s.cases.back().headline["peak du/dx at x=3"] = 10.2; }),
+     {}},
+    {"TightenedRateBandGivesOneViolation", "l2_rate = [2.05, 2.1]\n" + kOtherInsideBands,
+     edited(study(), [](StudyResult& s) { s.rates.l2 = 1.987654; }),
+     {{"l2_rate", eq(1.987654), 7,
+       {"laplace-tanh/fem", "l2_rate", "1.988", "suites/nightly.toml:7", "2.05"}, {}, eq(2.05),
+       eq(2.1)}},
+     "suites/nightly.toml"},
+    {"UsesCommonRuleRates", "h1_rate = [0.9, 1.1]\n",
+     edited(study(), [](StudyResult& s) { s.rates.h1_semi = 1.5; s.rates_paper.h1_semi = 1.0; }),
+     {{"h1_rate", eq(1.5), 7}}},
+    {"FinestMetricsUseTheLastResolution", kFinestBands, study(), {}},
+    {"FinestMetricOutsideAtTheLastResolution", kFinestBands,
+     edited(study(), [](StudyResult& s) { s.cases.back().errors.h1_semi_rel = 0.02; }),
+     {{"h1_rel_finest", eq(0.02), 10, {"bands.toml:10"}}}},
+    // --full adds a finer resolution; the _finest bands still apply to the last of `nodes`, 81.
+    {"FullStudyChecksFinestBandsAtTheDefaultFinest", "l2_rel_finest = [1e-4, 6e-4]\n",
+     edited(study(),
+            [](StudyResult& s) {
+              CaseResult finer = s.cases.back();
+              finer.spec.nodes = 2 * 81;
+              finer.errors.l2_rel = 1e-6;  // outside the band, but not where it applies
+              s.cases.push_back(finer);
+            }),
+     {}},
+    // "1.9" with 4 or 5 digits would contradict the message.
+    {"PrintedValueIsVisiblyOutside", "l2_rate = [1.9, 2.1]\n",
+     edited(study(), [](StudyResult& s) { s.rates.l2 = 1.89996; }),
+     {{"l2_rate", eq(1.89996), 7, {"1.89996"}, {"= 1.9 "}}}},
+    // In band_metrics() order: h1_rate before l2_finest.
+    {"NaNViolatesEvenAnUnboundedBand", "l2_finest = [-inf, inf]\nh1_rate = [-inf, inf]\n",
+     edited(study(), [](StudyResult& s) { s.cases.back().errors.l2 = s.rates.h1_semi = kNaN; }),
+     {{"h1_rate", kIsNaN, 8, {"laplace-tanh/fem", "not a number", "bands.toml:"}},
+      {"l2_finest", kIsNaN, 7,
+       {"laplace-tanh/fem", "not a number", "bands.toml:", "l2_finest", "bands.toml:7"}}}},
+    {"NaNHeadlineViolates", "headline = { \"peak du/dx at x=3\" = [-inf, inf] }\n",
+     edited(study(), [](StudyResult& s) { s.cases.back().headline["peak du/dx at x=3"] = kNaN; }),
+     {{kPeak, kIsNaN, 7}}},
+    {"InfiniteValueViolatesAnOpenBand",
+     "l2_finest = [0.0, inf]\nheadline = { \"peak du/dx at x=3\" = [-inf, inf] }\n",
+     edited(study(),
+            [](StudyResult& s) {
+              s.cases.back().errors.l2 = kInf;
+              s.cases.back().headline["peak du/dx at x=3"] = -kInf;
+            }),
+     {{"l2_finest", eq(kInf), 7, {"outside the band"}}, {kPeak, eq(-kInf), 8}}},
+    // The finest is 10.2; 9.9 is the middle resolution.
+    {"HeadlineOutsideBand", "headline = { \"peak du/dx at x=3\" = [9.7, 9.9] }\n", study(),
+     {{kPeak, near(10.2, 1e-12), 7, {"peak du/dx at x=3", "10.2", "bands.toml:7"}}}},
+    {"UnknownHeadlineListsAvailableNames", kUnknownHeadline, study(),
+     {{"headline:peak du/dx at x=4", kIsNaN, 7,
+       {"peak du/dx at x=4", "not computed", "'peak du/dx at x=3'", "'u at x=5'",
+        "bands.toml:7"}}}},
+    {"UnknownHeadlineWithoutHeadlines", kUnknownHeadline,
+     edited(study(), [](StudyResult& s) { s.cases.back().headline.clear(); }),
+     {{"headline:peak du/dx at x=4", kIsNaN, 7, {"no headline quantities"}}}},
+    // study(1) has rates 2 and 1 set, but they are meaningless.
+    {"RatesNeedTwoResolutions", "l2_rate = [1.9, 2.1]\nh1_rate = [0.9, 1.1]\nl2_finest = [0, 1]\n",
+     study(1),
+     {{"l2_rate", kIsNaN, 7, {"at least 2 resolutions", "has 1", "bands.toml:7"}},
+      {"h1_rate", kIsNaN, 8, {"at least 2 resolutions", "has 1", "bands.toml:8"}}}},
+    {"EmptyStudyViolatesEveryBand", kInsideBands, StudyResult{},
+     {{"l2_rate", kIsNaN, 7}, {"h1_rate", kIsNaN, 8}, {"l2_finest", kIsNaN, 9},
+      {"h1_finest", kIsNaN, 10}, {"l2_rel_finest", kIsNaN, 11}, {"h1_rel_finest", kIsNaN, 12},
+      {kPeak, kIsNaN, 13}}},
+};
 
-TEST_F(CheckBandsTest, UnknownHeadlineListsAvailableNames) {
-  const ManifestCase c = with_bands("headline = { \"peak du/dx at x=4\" = [9, 11] }\n");
-  const auto v = check_bands(c, study(), "bands.toml");
-  ASSERT_EQ(v.size(), 1u);
-  EXPECT_EQ(v[0].case_id, "laplace-tanh/fem");
-  EXPECT_EQ(v[0].metric, "headline:peak du/dx at x=4");
-  EXPECT_TRUE(std::isnan(v[0].value));
-  EXPECT_HAS(v[0].message, "peak du/dx at x=4");
-  EXPECT_HAS(v[0].message, "not computed");
-  EXPECT_HAS(v[0].message, "'peak du/dx at x=3'");
-  EXPECT_HAS(v[0].message, "'u at x=5'");
-  EXPECT_HAS(v[0].message, "bands.toml:7");
-
-  StudyResult none = study();
-  none.cases.back().headline.clear();
-  const auto w = check_bands(c, none, "bands.toml");
-  ASSERT_EQ(w.size(), 1u);
-  EXPECT_HAS(w[0].message, "no headline quantities");
-}
-
-TEST_F(CheckBandsTest, RatesNeedTwoResolutions) {
-  const ManifestCase c = with_bands("l2_rate = [1.9, 2.1]\nh1_rate = [0.9, 1.1]\n"
-                                    "l2_finest = [0, 1]\n");
-  const StudyResult s = study(1);  // rates 2 and 1 are set but meaningless
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 2u);
-  EXPECT_EQ(v[0].metric, "l2_rate");
-  EXPECT_EQ(v[1].metric, "h1_rate");
-  for (const auto& x : v) {
-    EXPECT_TRUE(std::isnan(x.value));
-    EXPECT_HAS(x.message, "at least 2 resolutions");
-    EXPECT_HAS(x.message, "has 1");
-  }
-  EXPECT_HAS(v[0].message, "bands.toml:7");
-  EXPECT_HAS(v[1].message, "bands.toml:8");
-}
-
-TEST_F(CheckBandsTest, EmptyStudyViolatesEveryBand) {
-  const ManifestCase c = with_bands(kInsideBands);
-  const auto v = check_bands(c, StudyResult{}, "bands.toml");
-  EXPECT_EQ(v.size(), 7u);
-  for (const auto& x : v) EXPECT_TRUE(std::isnan(x.value)) << x.metric;
-}
+INSTANTIATE_TEST_SUITE_P(Manifest, BandChecks, ::testing::ValuesIn(kBandChecks), RowName());
 
 // ---------------------------------------------------------------------------------------------
 // Baseline
 
-using BaselineTest = TempDirTest;
+using BaselineTest = Files;
 
 bool same_double(double a, double b) {
   return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0;
@@ -930,27 +736,30 @@ Baseline sample_baseline() {
 TEST_F(BaselineTest, RoundTripIsExact) {
   const Baseline b = sample_baseline();
   const std::string text = baseline_to_toml(b);
-  const fs::path p = write("baseline/default.toml", text);
-  const Baseline r = load_baseline(p);
+  const Baseline r = load_baseline(write("baseline/default.toml", text));
   EXPECT_TRUE(SameBaseline(b, r));
   EXPECT_TRUE(std::isnan(r.cases.at("advection-diffusion/rkpm \"quoted\"").l2_rate));
   EXPECT_TRUE(std::isnan(r.cases.at("advection-diffusion/rkpm \"quoted\"").h1_rate));
   // Stable: writing what was read gives the same text.
   EXPECT_EQ(baseline_to_toml(r), text);
-  EXPECT_HAS(text, "h1_rate = 0.33333333333333331\n");  // 17 significant digits
-  EXPECT_HAS(text, "[meta]");
-  EXPECT_HAS(text, "suite = \"default\"");
+  // 17 significant digits.
+  ExpectMessage(text, {"h1_rate = 0.33333333333333331\n", "[meta]", "suite = \"default\""});
   // Sorted ids: "advection..." before "laplace...".
   EXPECT_LT(text.find("advection-diffusion"), text.find("laplace-tanh/fem"));
 }
 
+TEST_F(BaselineTest, RoundTripThenCheckDriftIsClean) {
+  const Baseline b = sample_baseline();
+  const Baseline r = load_baseline(write("b.toml", baseline_to_toml(b)));
+  for (const auto& [id, c] : b.cases)
+    EXPECT_TRUE(check_drift(id, c, r.cases.at(id), 1e-15, 0).empty()) << id;
+}
+
 TEST_F(BaselineTest, LoadSortsResolutions) {
-  const fs::path p = write("b.toml",
-                           "[cases.a]\nl2_rate = 2\nh1_rate = 1.0\nresolutions = [\n"
-                           "  { nodes = 41, l2 = 1, h1 = 2, l2_rel = 3, h1_rel = 4 },\n"
-                           "  { nodes = 21, l2 = 5, h1 = 6, l2_rel = 7, h1_rel = 8 },\n"
-                           "]\n");
-  const Baseline b = load_baseline(p);
+  const Baseline b = load_baseline(
+      write("b.toml", "[cases.a]\nl2_rate = 2\nh1_rate = 1.0\nresolutions = [\n"
+                      "  { nodes = 41, l2 = 1, h1 = 2, l2_rel = 3, h1_rel = 4 },\n"
+                      "  { nodes = 21, l2 = 5, h1 = 6, l2_rel = 7, h1_rel = 8 },\n]\n"));
   EXPECT_EQ(b.suite, "");
   ASSERT_EQ(b.cases.count("a"), 1u);
   const BaselineCase& c = b.cases.at("a");
@@ -963,52 +772,26 @@ TEST_F(BaselineTest, LoadSortsResolutions) {
 }
 
 TEST_F(BaselineTest, MissingFileIsEmpty) {
-  const Baseline b = load_baseline(dir_ / "not-yet" / "default.toml");
+  const Baseline b = load_baseline(dir_.path() / "not-yet" / "default.toml");
   EXPECT_TRUE(b.cases.empty());
   EXPECT_EQ(b.suite, "");
 }
 
-TEST_F(BaselineTest, SyntaxErrorNamesFileAndLine) {
-  const fs::path p = write("b.toml", "[meta]\nsuite = \"x\"\n\n[cases.\"a\"]\nl2_rate = = 2\n");
-  const std::string msg = baseline_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 5));
-  EXPECT_HAS(msg, "--update-baseline");
+TEST_F(BaselineTest, TheNanStringIsNoValue) {
+  const Baseline b = load_baseline(
+      write("ok.toml", "[cases.a]\nl2_rate = \"nan\"\nh1_rate = 1.0\nresolutions = [\n"
+                       "  { nodes = 21, l2 = 1, h1 = \"nan\", l2_rel = 3, h1_rel = 4 },\n]\n"));
+  EXPECT_TRUE(std::isnan(b.cases.at("a").l2_rate));
+  EXPECT_TRUE(std::isnan(b.cases.at("a").resolutions.at(0).h1));
 }
 
-TEST_F(BaselineTest, MissingKeyNamesFileAndLine) {
-  const fs::path p = write("b.toml",
-                           "[cases.\"a\"]\n"
-                           "l2_rate = 2.0\n"
-                           "h1_rate = 1.0\n"
-                           "resolutions = [\n"
-                           "  { nodes = 21, l2 = 1, h1 = 2, l2_rel = 3, h1_rel = 4 },\n"
-                           "  { nodes = 41, l2 = 1, h1 = 2, h1_rel = 4 },\n"  // 6: no l2_rel
-                           "]\n");
-  const std::string msg = baseline_error(p);
-  EXPECT_TRUE(AtLine(msg, p, 6));
-  EXPECT_HAS(msg, "missing 'l2_rel'");
-}
-
-TEST_F(BaselineTest, MalformedValuesNameFileAndLine) {
-  {
-    const fs::path p = write("b1.toml", "[cases.a]\nl2_rate = \"fast\"\nh1_rate = 1.0\n"
-                                        "resolutions = []\n");
-    const std::string msg = baseline_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 2));
-    EXPECT_HAS(msg, "'l2_rate' must be a number");
-  }
-  {
-    const fs::path p = write("b2.toml", "[cases.a]\nl2_rate = 2.0\nh1_rate = 1.0\n");
-    const std::string msg = baseline_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 1));
-    EXPECT_HAS(msg, "resolutions");
-  }
-  {
-    const fs::path p = write("b3.toml", "[cases]\na = 3\n");
-    const std::string msg = baseline_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 2));
-    EXPECT_HAS(msg, "'a' must be a table");
-  }
+TEST_F(BaselineTest, WriterRecordsInfAsNoValueSoTheFileLoads) {
+  Baseline b;
+  b.cases["a"] = BaselineCase{kInf, 1.0, {{21, kInf, -kInf, 1.0, 2.0}}};
+  const Baseline r = load_baseline(write("b.toml", baseline_to_toml(b)));
+  EXPECT_TRUE(std::isnan(r.cases.at("a").l2_rate));
+  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).l2));
+  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).h1));
 }
 
 TEST(BaselineFromStudy, RecordsRatesAndErrors) {
@@ -1043,6 +826,51 @@ TEST(BaselineFromStudy, RecordsRatesAndErrors) {
   ASSERT_EQ(one.resolutions.size(), 1u);
 }
 
+/// A baseline that load_baseline refuses, the line its message names and what it says.
+struct BadBaseline {
+  std::string name, text;
+  int line;
+  std::string contains;
+};
+
+using BadBaselines = TableTest<BadBaseline>;
+
+TEST_P(BadBaselines, RefusedWithFileLineAndFix) {
+  const fs::path p = write("b.toml", GetParam().text);
+  const std::string msg = baseline_error(p);
+  EXPECT_TRUE(AtLine(msg, p, GetParam().line));
+  ExpectMessage(msg, {GetParam().contains});
+}
+
+/// A baseline whose one resolution (line 5) has l2 = `value`.
+std::string with_l2(const std::string& value) {
+  return "[cases.a]\nl2_rate = 2.0\nh1_rate = 1.0\nresolutions = [\n  { nodes = 21, l2 = " +
+         value + ", h1 = 2, l2_rel = 3, h1_rel = 4 },\n]\n";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Baseline, BadBaselines,
+    ::testing::Values(
+        BadBaseline{"SyntaxError", "[meta]\nsuite = \"x\"\n\n[cases.\"a\"]\nl2_rate = = 2\n", 5,
+                    "--update-baseline"},
+        BadBaseline{"MissingKey",
+                    "[cases.\"a\"]\nl2_rate = 2.0\nh1_rate = 1.0\nresolutions = [\n"
+                    "  { nodes = 21, l2 = 1, h1 = 2, l2_rel = 3, h1_rel = 4 },\n"
+                    "  { nodes = 41, l2 = 1, h1 = 2, h1_rel = 4 },\n"  // 6: no l2_rel
+                    "]\n",
+                    6, "missing 'l2_rel'"},
+        BadBaseline{"RateNotANumber",
+                    "[cases.a]\nl2_rate = \"fast\"\nh1_rate = 1.0\nresolutions = []\n", 2,
+                    "'l2_rate' must be a number"},
+        BadBaseline{"NoResolutions", "[cases.a]\nl2_rate = 2.0\nh1_rate = 1.0\n", 1, "resolutions"},
+        BadBaseline{"CaseNotATable", "[cases]\na = 3\n", 2, "'a' must be a table"},
+        // A non-finite number is refused; the string "nan" is no value (TheNanStringIsNoValue).
+        BadBaseline{"Inf", with_l2("inf"), 5, "not finite"},
+        BadBaseline{"MinusInf", with_l2("-inf"), 5, "not finite"},
+        BadBaseline{"Nan", with_l2("nan"), 5, "not finite"},
+        BadBaseline{"PlusInf", with_l2("+inf"), 5, "not finite"}),
+    RowName());
+
 // ---------------------------------------------------------------------------------------------
 // check_drift
 
@@ -1054,228 +882,117 @@ BaselineCase drift_case() {
   return c;
 }
 
-TEST(CheckDrift, IdenticalGivesNoDrift) {
-  EXPECT_TRUE(check_drift("a", drift_case(), drift_case(), 0.05, 1e-12).empty());
-}
+struct ExpectedDrift {
+  std::string metric;
+  int nodes;
+  bool worse;
+  Num relative = {}, baseline = {}, current = {};
+  std::vector<std::string> contains = {}, lacks = {};
+};
 
-TEST(CheckDrift, SmallChangeWithinToleranceIsNoDrift) {
-  BaselineCase cur = drift_case();
-  cur.resolutions[1].l2 *= 1.04;
-  cur.l2_rate = 2.09;  // |0.09| <= 0.05 * max(1, 2)
-  EXPECT_TRUE(check_drift("a", drift_case(), cur, 0.05, 1e-12).empty());
-}
+/// A baseline, the current results and the drifts check_drift finds, in order.
+struct DriftCheck {
+  std::string name;
+  BaselineCase baseline, current;
+  std::vector<ExpectedDrift> drifts;
+  std::string case_id = "a";
+};
 
-TEST(CheckDrift, WorseErrorIsFlagged) {
-  BaselineCase cur = drift_case();
-  cur.resolutions[1].l2 *= 1.10;
-  const auto d = check_drift("laplace-tanh/fem", drift_case(), cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].case_id, "laplace-tanh/fem");
-  EXPECT_EQ(d[0].metric, "l2");
-  EXPECT_EQ(d[0].nodes, 41);
-  EXPECT_DOUBLE_EQ(d[0].baseline, 2.5e-3);
-  EXPECT_DOUBLE_EQ(d[0].current, 2.75e-3);
-  EXPECT_NEAR(d[0].relative, 0.10, 1e-12);
-  EXPECT_TRUE(d[0].worse);
-  EXPECT_HAS(d[0].message, "laplace-tanh/fem");
-  EXPECT_HAS(d[0].message, "l2");
-  EXPECT_HAS(d[0].message, "41");
-  EXPECT_HAS(d[0].message, "worse");
-}
+class DriftChecks : public ::testing::TestWithParam<DriftCheck> {};
 
-TEST(CheckDrift, BetterErrorIsFlaggedNotWorse) {
-  BaselineCase cur = drift_case();
-  cur.resolutions[0].h1_rel *= 0.8;
-  const auto d = check_drift("a", drift_case(), cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].metric, "h1_rel");
-  EXPECT_EQ(d[0].nodes, 21);
-  EXPECT_FALSE(d[0].worse);
-  EXPECT_NEAR(d[0].relative, 0.2, 1e-12);  // |cur - base| / |base|, as documented
-  EXPECT_HAS(d[0].message, "better");
-  EXPECT_HAS(d[0].message, "--update-baseline");
-}
-
-TEST(CheckDrift, BothBelowFloorIsRoundOff) {
-  BaselineCase base = drift_case(), cur = drift_case();
-  base.resolutions[1].l2 = 1e-15;
-  cur.resolutions[1].l2 = 8e-15;  // 700% change, but both below the floor
-  EXPECT_TRUE(check_drift("a", base, cur, 0.05, 1e-12).empty());
-  // One above the floor: a drift, relative to the floor.
-  cur.resolutions[1].l2 = 2e-12;
-  const auto d = check_drift("a", base, cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].metric, "l2");
-  EXPECT_TRUE(d[0].worse);
-  EXPECT_NEAR(d[0].relative, (2e-12 - 1e-15) / 1e-12, 1e-9);
-}
-
-TEST(CheckDrift, LowerRateIsWorse) {
-  BaselineCase cur = drift_case();
-  cur.l2_rate = 1.7;  // |0.3| > 0.05 * 2
-  cur.h1_rate = 1.2;  // higher: better
-  const auto d = check_drift("a", drift_case(), cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 2u);
-  EXPECT_EQ(d[0].metric, "l2_rate");
-  EXPECT_EQ(d[0].nodes, 0);
-  EXPECT_TRUE(d[0].worse);
-  EXPECT_NEAR(d[0].relative, 0.15, 1e-12);  // |1.7 - 2| / max(1, 2)
-  EXPECT_EQ(d[1].metric, "h1_rate");
-  EXPECT_FALSE(d[1].worse);
-  EXPECT_NEAR(d[1].relative, 0.2, 1e-12);
-}
-
-TEST(CheckDrift, NaNAgainstNumberIsDrift) {
-  BaselineCase base = drift_case(), cur = drift_case();
-  cur.resolutions[0].l2 = kNaN;
-  auto d = check_drift("a", base, cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].metric, "l2");
-  EXPECT_TRUE(d[0].worse);
-  EXPECT_TRUE(std::isnan(d[0].current));
-
-  base.resolutions[0].l2 = kNaN;  // NaN against NaN: no drift
-  base.l2_rate = cur.l2_rate = kNaN;
-  EXPECT_TRUE(check_drift("a", base, cur, 0.05, 1e-12).empty());
-
-  cur.l2_rate = 2.0;  // a number where the baseline has NaN: a drift, not worse
-  d = check_drift("a", base, cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].metric, "l2_rate");
-  EXPECT_FALSE(d[0].worse);
-}
-
-TEST(CheckDrift, ResolutionInOnlyOneSide) {
-  BaselineCase cur = drift_case();
-  cur.resolutions.push_back({81, 6e-4, 2.5e-2, 6e-5, 2.5e-3});  // new in this run
-  BaselineCase base = drift_case();
-  base.resolutions.insert(base.resolutions.begin(), {11, 1, 1, 1, 1});  // only in the baseline
-  const auto d = check_drift("a", base, cur, 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 2u);
-  for (const auto& x : d) {
-    EXPECT_EQ(x.metric, "resolution");
-    EXPECT_FALSE(x.worse);
-    EXPECT_TRUE(std::isnan(x.baseline));
-    EXPECT_TRUE(std::isnan(x.current));
-    EXPECT_HAS(x.message, "--update-baseline");
-  }
-  EXPECT_EQ(d[0].nodes, 11);
-  EXPECT_HAS(d[0].message, "11 nodes");
-  EXPECT_HAS(d[0].message, "in the baseline but not in this run");
-  EXPECT_FALSE(Contains(d[0].message, "run the baseline")) << d[0].message;
-  EXPECT_EQ(d[1].nodes, 81);
-  EXPECT_HAS(d[1].message, "81 nodes");
-  EXPECT_HAS(d[1].message, "not in the baseline");
-}
-
-TEST_F(BaselineTest, RoundTripThenCheckDriftIsClean) {
-  const Baseline b = sample_baseline();
-  const Baseline r = load_baseline(write("b.toml", baseline_to_toml(b)));
-  for (const auto& [id, c] : b.cases)
-    EXPECT_TRUE(check_drift(id, c, r.cases.at(id), 1e-15, 0).empty()) << id;
-}
-
-}  // namespace
-
-// ---------------------------------------------------------------------------------------------
-// Non-finite values: never a pass (issue 12)
-
-TEST_F(ManifestTest, BandThatAdmitsNoFiniteValueIsALoadError) {
-  for (const char* band : {"l2_finest = [inf, inf]\n", "l2_finest = [-inf, -inf]\n",
-                           "l2_finest = [nan, 1.0]\n"}) {
-    const fs::path p = write("m.toml", a_case("a", std::string("[case.bands]\n") + band));
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 7)) << band;
-    EXPECT_HAS(msg, "l2_finest");
+TEST_P(DriftChecks, FindsTheDrifts) {
+  const DriftCheck& r = GetParam();
+  const auto d = check_drift(r.case_id, r.baseline, r.current, 0.05, 1e-12);
+  ASSERT_EQ(d.size(), r.drifts.size()) << "first: " << (d.empty() ? "" : d[0].message);
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const ExpectedDrift& e = r.drifts[i];
+    SCOPED_TRACE(e.metric + " at " + std::to_string(e.nodes));
+    EXPECT_EQ(d[i].case_id, r.case_id);
+    EXPECT_EQ(d[i].metric, e.metric);
+    EXPECT_EQ(d[i].nodes, e.nodes);
+    EXPECT_EQ(d[i].worse, e.worse) << d[i].message;
+    ExpectNum("relative", d[i].relative, e.relative);
+    ExpectNum("baseline", d[i].baseline, e.baseline);
+    ExpectNum("current", d[i].current, e.current);
+    ExpectMessage(d[i].message, e.contains, e.lacks);
   }
 }
 
-TEST_F(CheckBandsTest, InfiniteValueViolatesAnOpenBand) {
-  const ManifestCase c = with_bands("l2_finest = [0.0, inf]\n"
-                                    "headline = { \"peak du/dx at x=3\" = [-inf, inf] }\n");
-  StudyResult s = study();
-  s.cases.back().errors.l2 = kInf;
-  s.cases.back().headline["peak du/dx at x=3"] = -kInf;
-  const auto v = check_bands(c, s, "bands.toml");
-  ASSERT_EQ(v.size(), 2u);
-  EXPECT_EQ(v[0].metric, "l2_finest");
-  EXPECT_HAS(v[0].message, "outside the band");
-  EXPECT_EQ(v[1].metric, "headline:peak du/dx at x=3");
+/// drift_case() after `edit`.
+template <class F>
+BaselineCase drifted(F&& edit) {
+  return edited(drift_case(), edit);
 }
 
-TEST_F(BaselineTest, NonFiniteNumberIsALoadErrorButTheNanStringIsNoValue) {
-  for (const char* value : {"inf", "-inf", "nan", "+inf"}) {
-    const fs::path p = write("b.toml", std::string("[cases.a]\nl2_rate = 2.0\nh1_rate = 1.0\n"
-                                                   "resolutions = [\n"
-                                                   "  { nodes = 21, l2 = ") +
-                                           value + ", h1 = 2, l2_rel = 3, h1_rel = 4 },\n]\n");
-    const std::string msg = baseline_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 5)) << value;
-    EXPECT_HAS(msg, "not finite");
-  }
-  const fs::path ok = write("ok.toml", "[cases.a]\nl2_rate = \"nan\"\nh1_rate = 1.0\n"
-                                       "resolutions = [\n"
-                                       "  { nodes = 21, l2 = 1, h1 = \"nan\", l2_rel = 3, h1_rel = 4 },\n]\n");
-  const Baseline b = load_baseline(ok);
-  EXPECT_TRUE(std::isnan(b.cases.at("a").l2_rate));
-  EXPECT_TRUE(std::isnan(b.cases.at("a").resolutions.at(0).h1));
+/// NaN for l2 at 21 nodes and for l2_rate: check_drift compares NaN with NaN as equal.
+BaselineCase nan_l2() {
+  return drifted([](BaselineCase& c) { c.resolutions[0].l2 = c.l2_rate = kNaN; });
 }
 
-TEST_F(BaselineTest, WriterRecordsInfAsNoValueSoTheFileLoads) {
-  Baseline b;
-  BaselineCase c;
-  c.l2_rate = kInf;
-  c.h1_rate = 1.0;
-  c.resolutions = {{21, kInf, -kInf, 1.0, 2.0}};
-  b.cases["a"] = c;
-  const fs::path p = write("b.toml", baseline_to_toml(b));
-  const Baseline r = load_baseline(p);
-  EXPECT_TRUE(std::isnan(r.cases.at("a").l2_rate));
-  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).l2));
-  EXPECT_TRUE(std::isnan(r.cases.at("a").resolutions.at(0).h1));
+/// A current result with a non-finite l2 at 41 nodes and h1 rate.
+BaselineCase non_finite(double bad) {
+  return drifted([bad](BaselineCase& c) { c.resolutions[1].l2 = c.h1_rate = bad; });
 }
 
-TEST(CheckDrift, NonFiniteCurrentAgainstAFiniteBaselineIsWorse) {
-  for (double bad : {kInf, -kInf, kNaN}) {
-    BaselineCase cur = drift_case();
-    cur.resolutions[1].l2 = bad;
-    cur.h1_rate = bad;
-    const auto d = check_drift("a", drift_case(), cur, 0.05, 1e-12);
-    ASSERT_EQ(d.size(), 2u) << bad;
-    for (const auto& x : d) EXPECT_TRUE(x.worse) << x.message;
-  }
-}
+const std::vector<DriftCheck> kDriftChecks = {
+    {"IdenticalGivesNoDrift", drift_case(), drift_case(), {}},
+    // |0.09| <= 0.05 * max(1, 2)
+    {"SmallChangeWithinToleranceIsNoDrift", drift_case(),
+     drifted([](BaselineCase& c) { c.resolutions[1].l2 *= 1.04; c.l2_rate = 2.09; }), {}},
+    {"WorseErrorIsFlagged", drift_case(),
+     drifted([](BaselineCase& c) { c.resolutions[1].l2 *= 1.10; }),
+     {{"l2", 41, true, near(0.10, 1e-12), eq(2.5e-3), eq(2.75e-3),
+       {"laplace-tanh/fem", "l2", "41", "worse"}}},
+     "laplace-tanh/fem"},
+    // relative = |cur - base| / |base|, as documented.
+    {"BetterErrorIsFlaggedNotWorse", drift_case(),
+     drifted([](BaselineCase& c) { c.resolutions[0].h1_rel *= 0.8; }),
+     {{"h1_rel", 21, false, near(0.2, 1e-12), {}, {}, {"better", "--update-baseline"}}}},
+    // A 700% change, but both below the floor.
+    {"BothBelowFloorIsRoundOff", drifted([](BaselineCase& c) { c.resolutions[1].l2 = 1e-15; }),
+     drifted([](BaselineCase& c) { c.resolutions[1].l2 = 8e-15; }), {}},
+    {"OneAboveTheFloorDriftsRelativeToTheFloor",
+     drifted([](BaselineCase& c) { c.resolutions[1].l2 = 1e-15; }),
+     drifted([](BaselineCase& c) { c.resolutions[1].l2 = 2e-12; }),
+     {{"l2", 41, true, near((2e-12 - 1e-15) / 1e-12, 1e-9)}}},
+    // l2: |0.3| > 0.05 * 2, relative |1.7 - 2| / max(1, 2); h1 higher: better.
+    {"LowerRateIsWorse", drift_case(),
+     drifted([](BaselineCase& c) { c.l2_rate = 1.7; c.h1_rate = 1.2; }),
+     {{"l2_rate", 0, true, near(0.15, 1e-12)}, {"h1_rate", 0, false, near(0.2, 1e-12)}}},
+    {"NaNAgainstNumberIsWorse", drift_case(),
+     drifted([](BaselineCase& c) { c.resolutions[0].l2 = kNaN; }),
+     {{"l2", 21, true, {}, {}, kIsNaN}}},
+    {"NaNAgainstNaNIsNoDrift", nan_l2(), nan_l2(), {}},
+    {"NumberAgainstNaNIsADriftNotWorse", nan_l2(),
+     edited(nan_l2(), [](BaselineCase& c) { c.l2_rate = 2.0; }), {{"l2_rate", 0, false}}},
+    // 11 nodes only in the baseline, 81 new in this run.
+    {"ResolutionInOnlyOneSide",
+     drifted([](BaselineCase& c) {
+       c.resolutions.insert(c.resolutions.begin(), {11, 1, 1, 1, 1});
+     }),
+     drifted([](BaselineCase& c) { c.resolutions.push_back({81, 6e-4, 2.5e-2, 6e-5, 2.5e-3}); }),
+     {{"resolution", 11, false, {}, kIsNaN, kIsNaN,
+       {"--update-baseline", "11 nodes", "in the baseline but not in this run"},
+       {"run the baseline"}},
+      {"resolution", 81, false, {}, kIsNaN, kIsNaN,
+       {"--update-baseline", "81 nodes", "not in the baseline"}}}},
+    {"InfCurrentAgainstAFiniteBaselineIsWorse", drift_case(), non_finite(kInf),
+     {{"h1_rate", 0, true}, {"l2", 41, true}}},
+    {"MinusInfCurrentAgainstAFiniteBaselineIsWorse", drift_case(), non_finite(-kInf),
+     {{"h1_rate", 0, true}, {"l2", 41, true}}},
+    {"NaNCurrentAgainstAFiniteBaselineIsWorse", drift_case(), non_finite(kNaN),
+     {{"h1_rate", 0, true}, {"l2", 41, true}}},
+    // As if read from a hand-edited file.
+    {"InfiniteBaselineDoesNotSwitchTheCheckOff",
+     drifted([](BaselineCase& c) { c.resolutions[0].l2 = kInf; }), drift_case(),
+     {{"l2", 21, false}}},
+};
 
-TEST(CheckDrift, InfiniteBaselineDoesNotSwitchTheCheckOff) {
-  BaselineCase base = drift_case();
-  base.resolutions[0].l2 = kInf;  // as if read from a hand-edited file
-  const auto d = check_drift("a", base, drift_case(), 0.05, 1e-12);
-  ASSERT_EQ(d.size(), 1u);
-  EXPECT_EQ(d[0].metric, "l2");
-  EXPECT_EQ(d[0].nodes, 21);
-}
+INSTANTIATE_TEST_SUITE_P(Baseline, DriftChecks, ::testing::ValuesIn(kDriftChecks), RowName());
 
 // ---------------------------------------------------------------------------------------------
 // expect = "unstable" and check_stability
 
-TEST_F(ManifestTest, ExpectKeyParsesAndRefusesOtherValues) {
-  {
-    const fs::path p = write("m.toml", a_case("a", "expect = \"unstable\"\n") +
-                                           a_case("b", "expect = \"stable\"\n") + a_case("c"));
-    const Manifest m = load_manifest(p);
-    EXPECT_TRUE(m.cases.at(0).expect_unstable);
-    EXPECT_FALSE(m.cases.at(1).expect_unstable);
-    EXPECT_FALSE(m.cases.at(2).expect_unstable);
-  }
-  for (const char* bad : {"expect = \"blows up\"\n", "expect = true\n"}) {
-    const fs::path p = write("m.toml", a_case("a", bad));
-    const std::string msg = manifest_error(p);
-    EXPECT_TRUE(AtLine(msg, p, 6)) << bad;
-    EXPECT_HAS(msg, "expect");
-  }
-}
-
-namespace {
 /// A transient study of two resolutions; `unstable_at` marks those that blew up.
 StudyResult transient_study(std::vector<bool> unstable_at) {
   StudyResult s;
@@ -1291,39 +1008,53 @@ StudyResult transient_study(std::vector<bool> unstable_at) {
   }
   return s;
 }
-}  // namespace
 
-TEST(CheckStability, UnstableRunFailsUnlessExpected) {
-  ManifestCase c;
-  c.id = "rod-pulse/efg-ci";
-  c.problem = "rod-pulse";
-  const auto fails = check_stability(c, transient_study({false, true}));
-  ASSERT_EQ(fails.size(), 1u);
-  EXPECT_HAS(fails[0], "rod-pulse/efg-ci: 241 nodes: unstable at step 9, t = 0.0018");
-  EXPECT_TRUE(check_stability(c, transient_study({false, false})).empty());
-  c.expect_unstable = true;
-  EXPECT_TRUE(check_stability(c, transient_study({true, true})).empty());
-}
-
-TEST(CheckStability, ExpectedInstabilityThatStaysStableFails) {
-  ManifestCase c;
-  c.id = "grk-bar/grk-j0-courant1.35";
-  c.expect_unstable = true;
-  const auto fails = check_stability(c, transient_study({true, false}));
-  ASSERT_EQ(fails.size(), 1u);
-  EXPECT_HAS(fails[0], "241 nodes: expected unstable");
-  EXPECT_HAS(fails[0], "stayed stable");
-}
-
-TEST(CheckStability, ExpectUnstableOnAStaticProblemIsReported) {
-  ManifestCase c;
-  c.id = "laplace-tanh/fem";
-  c.problem = "laplace-tanh";
+/// A study without transient steps.
+StudyResult static_study() {
   StudyResult s;
-  s.cases.resize(2);  // no transient steps
-  EXPECT_TRUE(check_stability(c, s).empty());
-  c.expect_unstable = true;
-  const auto fails = check_stability(c, s);
-  ASSERT_EQ(fails.size(), 1u);
-  EXPECT_HAS(fails[0], "applies to transient runs");
+  s.cases.resize(2);
+  return s;
 }
+
+/// A case, a study and the one failure check_stability reports, or none.
+struct StabilityCheck {
+  std::string name, id, problem;
+  bool expect_unstable;
+  StudyResult study;
+  std::vector<std::string> failure = {};  ///< substrings of the failure; empty: none
+};
+
+class StabilityChecks : public ::testing::TestWithParam<StabilityCheck> {};
+
+TEST_P(StabilityChecks, FailsWhenStabilityIsNotAsExpected) {
+  const StabilityCheck& r = GetParam();
+  ManifestCase c;
+  c.id = r.id;
+  c.problem = r.problem;
+  c.expect_unstable = r.expect_unstable;
+  const auto fails = check_stability(c, r.study);
+  if (r.failure.empty()) {
+    EXPECT_TRUE(fails.empty()) << fails.front();
+  } else {
+    ASSERT_EQ(fails.size(), 1u);
+    ExpectMessage(fails[0], r.failure);
+  }
+}
+
+const std::vector<StabilityCheck> kStabilityChecks = {
+    {"UnstableRunFails", "rod-pulse/efg-ci", "rod-pulse", false, transient_study({false, true}),
+     {"rod-pulse/efg-ci: 241 nodes: unstable at step 9, t = 0.0018"}},
+    {"StableRunPasses", "rod-pulse/efg-ci", "rod-pulse", false, transient_study({false, false})},
+    {"ExpectedInstabilityPasses", "rod-pulse/efg-ci", "rod-pulse", true,
+     transient_study({true, true})},
+    {"ExpectedInstabilityThatStaysStableFails", "grk-bar/grk-j0-courant1.35", "", true,
+     transient_study({true, false}), {"241 nodes: expected unstable", "stayed stable"}},
+    {"StaticProblemPasses", "laplace-tanh/fem", "laplace-tanh", false, static_study()},
+    {"ExpectUnstableOnAStaticProblemIsReported", "laplace-tanh/fem", "laplace-tanh", true,
+     static_study(), {"applies to transient runs"}},
+};
+
+INSTANTIATE_TEST_SUITE_P(Manifest, StabilityChecks, ::testing::ValuesIn(kStabilityChecks),
+                         RowName());
+
+}  // namespace
