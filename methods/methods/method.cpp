@@ -169,11 +169,11 @@ std::string support_text(const Params& p) {
 
 void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,
                            double& absolute) {
-  const double support = kernels.create(p.text("kernel"))->support();
-  over_spacing = p.number("dmax") / support;
+  const auto W = kernels.create(p.text("kernel"));
+  over_spacing = dilation_for_radius(*W, p.number("dmax"));
   if (p.number("radius") < 0)
     throw InputError(fmt::format("parameter 'radius' must be >= 0, got {}", p.number("radius")));
-  absolute = p.number("radius") > 0 ? p.number("radius") / support : 0.0;
+  absolute = p.number("radius") > 0 ? dilation_for_radius(*W, p.number("radius")) : 0.0;
 }
 
 ParamSchema common_galerkin_schema(int default_gauss_points) {
@@ -182,7 +182,8 @@ ParamSchema common_galerkin_schema(int default_gauss_points) {
                         "essential boundary conditions: Lagrange multipliers or penalty"),
       ParamSpec::positive("penalty", 1e8, "penalty factor relative to the largest stiffness entry"),
       capped(ParamSpec::count("quad", default_gauss_points, 1,
-                              "Gauss points per background cell (at most 64)"),
+                              "Gauss points per 1D background cell (at most 64); 2D cells take "
+                              "n_Q = ceil(sqrt(m)) + 2 with m particles in the cell (001 eq 66)"),
              64),
   };
 }

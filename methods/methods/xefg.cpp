@@ -72,16 +72,14 @@ void register_xefg(MethodRegistry& r, const MethodParts& parts) {
           if (p.integer("basis") > 2)
             throw InputError("parameter 'basis' of method 'xefg' must be 0, 1 or 2");
           GalerkinRecipe g;
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          a.set("basis", p.number("basis"));
-          std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
-          const double support = parts.kernels.create(p.text("kernel"))->support();
-          Params q;
-          q.set("n", p.number("quad"));
+          std::shared_ptr<const Approximation> mls = parts.approximations.create(
+              "mls", forward(p, {{"kernel", "kernel"}, {"basis", "basis"}}));
+          const auto W = parts.kernels.create(p.text("kernel"));
+          const double support = W->support();
           std::shared_ptr<const IntegrationScheme> cells =
-              parts.integrations.create("gauss-cells", q);
-          g.dilation_over_spacing = support_factor(p.text("support")) * p.number("dmax") / support;
+              parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
+          g.dilation_over_spacing =
+              dilation_for_radius(*W, support_factor(p.text("support")) * p.number("dmax"));
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
           const std::string base =
