@@ -123,7 +123,8 @@ std::vector<double> list_of(const ParamSpec& spec, const ParamValue& v, const st
   for (std::size_t i = 0; i < out.size(); ++i) {
     const double x = out[i];
     const auto where = [&] {
-      return fmt::format("parameter '{}' of {}: element {} of '{}'", spec.name, owner, i + 1, given);
+      return fmt::format("parameter '{}' of {}: element {} of '{}'", spec.name, owner, i + 1,
+                         given);
     };
     if (!std::isfinite(x))
       throw InputError(fmt::format("{} is {}, not a finite number; {}", where(), x,
@@ -284,8 +285,9 @@ std::string format_value(const ParamValue& v) {
   return std::get<std::string>(v);
 }
 
-Params forward(const Params& parent,
-               std::initializer_list<std::pair<std::string_view, std::string_view>> parent_to_child) {
+Params forward(
+    const Params& parent,
+    std::initializer_list<std::pair<std::string_view, std::string_view>> parent_to_child) {
   Params child;
   for (const auto& [from, to] : parent_to_child) {
     const std::string key(from);

@@ -93,7 +93,8 @@ std::string format_value(const ParamValue& v);
 /// The parameters a plugin hands to a child plugin, declared as (parent key, child key) pairs:
 /// each value is copied as it is (number, text or list). A parent key that is not set is a
 /// programming error (the parent's schema does not declare it) and throws std::logic_error.
-Params forward(const Params& parent,
-               std::initializer_list<std::pair<std::string_view, std::string_view>> parent_to_child);
+Params forward(
+    const Params& parent,
+    std::initializer_list<std::pair<std::string_view, std::string_view>> parent_to_child);
 
 }  // namespace mfv
