@@ -1,18 +1,23 @@
 /// Named, typed plugin parameters with a declared schema: unknown keys and out-of-range
 /// values are refused with the list of valid ones (as PySPH's Scheme.configure).
 #pragma once
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
 namespace mfv {
 
-using ParamValue = std::variant<double, std::string>;
+/// A number, a text, or a list of numbers (resolved against a `ParamSpec::numbers` entry).
+using ParamValue = std::variant<double, std::string, std::vector<double>>;
 
-/// One declared parameter: name, meaning, default and admissible range or choices.
+/// One declared parameter: name, meaning, default and admissible range or choices. The kind
+/// follows the default: a number, a text, or a list of numbers (each element checked against
+/// min/max).
 struct ParamSpec {
   std::string name;
   std::string description;
@@ -22,12 +27,17 @@ struct ParamSpec {
   std::optional<double> max{};        ///< inclusive upper bound
   std::vector<std::string> choices{}; ///< admissible text values (empty: any)
   bool integer = false;               ///< the number must be integral
+  /// Deprecated names that still parse and resolve to `name` (old manifests keep working).
+  std::vector<std::string> aliases{};
 
   static ParamSpec number(std::string name, double def, std::string description);
   static ParamSpec positive(std::string name, double def, std::string description);
   static ParamSpec count(std::string name, int def, int min, std::string description);
   static ParamSpec choice(std::string name, std::string def, std::vector<std::string> choices,
                           std::string description);
+  /// A list of finite numbers, given as "0:45", "0,45" (a manifest string; the key=value
+  /// syntax splits at commas) or one number. `def` must not be empty.
+  static ParamSpec numbers(std::string name, std::vector<double> def, std::string description);
 };
 
 using ParamSchema = std::vector<ParamSpec>;
@@ -36,6 +46,12 @@ using ParamSchema = std::vector<ParamSpec>;
 /// a larger value could only run for ever or exhaust memory.
 inline ParamSpec capped(ParamSpec spec, double max) {
   spec.max = max;
+  return spec;
+}
+
+/// `spec` that also answers to the deprecated name `old_name`, resolved to `spec.name`.
+inline ParamSpec aliased(ParamSpec spec, std::string old_name) {
+  spec.aliases.push_back(std::move(old_name));
   return spec;
 }
 
@@ -55,9 +71,12 @@ class Params {
   double number(const std::string& key) const;
   int integer(const std::string& key) const;
   const std::string& text(const std::string& key) const;
+  /// The list of a resolved `ParamSpec::numbers` parameter.
+  const std::vector<double>& numbers(const std::string& key) const;
 
   /// Checks every key against `schema` (unknown keys throw InputError listing the valid
-  /// ones), checks ranges and choices, and returns a copy with defaults filled in.
+  /// ones; a deprecated alias is renamed to its parameter), checks ranges and choices, and
+  /// returns a copy with defaults filled in.
   /// `owner` names the plugin in messages ("method 'efg'").
   Params resolve(const ParamSchema& schema, const std::string& owner) const;
 
@@ -68,6 +87,14 @@ class Params {
   std::map<std::string, ParamValue> values_;
 };
 
+/// A value as text: numbers compactly ({:g}), lists as their elements joined by ':'.
 std::string format_value(const ParamValue& v);
+
+/// The parameters a plugin hands to a child plugin, declared as (parent key, child key) pairs:
+/// each value is copied as it is (number, text or list). A parent key that is not set is a
+/// programming error (the parent's schema does not declare it) and throws std::logic_error.
+Params forward(
+    const Params& parent,
+    std::initializer_list<std::pair<std::string_view, std::string_view>> parent_to_child);
 
 }  // namespace mfv

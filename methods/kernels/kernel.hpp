@@ -26,6 +26,11 @@ class Kernel {
   }
 };
 
+/// The dilation a whose support reaches `radius`: W vanishes for s = r/a >= support(), so
+/// a = radius / support(). With the radius over the spacing (dmax) it is a over Δx; the one
+/// place where "dmax over the kernel's support" is written.
+inline double dilation_for_radius(const Kernel& W, double radius) { return radius / W.support(); }
+
 /// Helper that turns a scalar formula into a batch kernel. Derived supplies
 /// `static void formula(double s, double& w, double& dw, double& d2w)` for s < support.
 template <class Derived>

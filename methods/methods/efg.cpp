@@ -7,23 +7,25 @@ namespace mfv {
 void register_efg(MethodRegistry& r, const MethodParts& parts) {
   ParamSchema s = common_galerkin_schema(10);
   s.push_back(ParamSpec::choice("kernel", "cubic-window", parts.kernels.keys(), "weight function"));
-  s.push_back(ParamSpec::positive("dmax", 2.0, "support size over particle spacing (a = dmax dx)"));
+  s.push_back(ParamSpec::positive("dmax", 2.0,
+                                  "support radius over particle spacing (a = dmax dx / support of "
+                                  "W); 2.0 is the EFG of the 004 comparisons (laplace-tanh, "
+                                  "advection-diffusion) whose baselines were measured with it, "
+                                  "where efg-ni/efg-ci keep 001's particle-method 2.4"));
   s.push_back(ParamSpec::count("basis", 1, 0, "MLS basis order (0, 1, 2)"));
   s.push_back(ParamSpec::choice("integration", "gauss-cells", {"gauss-cells", "nodal", "stress-points"},
                                 "where the weak form is integrated"));
   r.add("efg", "element-free Galerkin: MLS shape functions (001 eqs 37-43)", s,
         [parts](const Params& p) {
           GalerkinRecipe g;
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          a.set("basis", p.number("basis"));
-          g.trial = parts.approximations.create("mls", a);
-          Params q;
-          if (p.text("integration") == "gauss-cells") q.set("n", p.number("quad"));
-          g.integration = parts.integrations.create(p.text("integration"), q);
-          // The weight's own support (in s) times the dilation is the support radius dmax·Δx.
+          g.trial = parts.approximations.create("mls", forward(p, {{"kernel", "kernel"},
+                                                                   {"basis", "basis"}}));
+          // Only Gauss cells have points per cell; nodal and stress-point rules take none.
+          const std::string& integration = p.text("integration");
+          g.integration = parts.integrations.create(
+              integration, integration == "gauss-cells" ? forward(p, {{"quad", "n"}}) : Params{});
           g.dilation_over_spacing =
-              p.number("dmax") / parts.kernels.create(p.text("kernel"))->support();
+              dilation_for_radius(*parts.kernels.create(p.text("kernel")), p.number("dmax"));
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
           g.description = fmt::format("MLS basis {} with {} weight, dmax={}, {}, bc={}",
@@ -42,10 +44,16 @@ namespace {
 void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std::string& name,
                           const std::string& integration) {
   ParamSchema s = particle_method_schema(parts.kernels, true);
+  // `quad` as in efg and the other Galerkin methods; `nq`, this method's first name for it,
+  // still parses. The default differs from efg's 10: 001 §5.3 sizes 2D cells by eq 66.
   if (integration == "gauss-cells")
-    s.push_back(ParamSpec::count("nq", 0, 0,
-                                 "Gauss points per cell and direction; 0: n_Q = sqrt(m) + 2 "
-                                 "with m particles in the cell (001 eq 66)"));
+    s.push_back(aliased(capped(ParamSpec::count("quad", 0, 0,
+                                                "Gauss points per 2D cell and direction; 0: n_Q "
+                                                "= ceil(sqrt(m)) + 2 with m particles in the "
+                                                "cell (001 eq 66); 1D cells take 10 (at most "
+                                                "64; deprecated name: nq)"),
+                               64),
+                        "nq"));
   r.add(name,
         fmt::format("element-free Galerkin, MLS linear basis (001 eqs 37-43), {} (001 Table 1 "
                     "row EFG {})",
@@ -53,12 +61,9 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
                     integration == "nodal" ? "ni" : "ci"),
         s, [parts, integration](const Params& p) {
           GalerkinRecipe g;
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          g.trial = parts.approximations.create("mls", a);
-          Params q;
-          if (integration == "gauss-cells") q.set("nq", p.number("nq"));
-          g.integration = parts.integrations.create(integration, q);
+          g.trial = parts.approximations.create("mls", forward(p, {{"kernel", "kernel"}}));
+          g.integration = parts.integrations.create(
+              integration, integration == "gauss-cells" ? forward(p, {{"quad", "nq"}}) : Params{});
           set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
@@ -66,7 +71,7 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
               "EFG: MLS linear, {} kernel, support {}, {}, bc={}", p.text("kernel"),
               support_text(p),
               integration == "nodal" ? "nodal integration"
-              : p.integer("nq") > 0  ? fmt::format("{0}x{0} Gauss per cell", p.integer("nq"))
+              : p.integer("quad") > 0 ? fmt::format("{0}x{0} Gauss per cell", p.integer("quad"))
                                      : "Gauss cells with n_Q = sqrt(m)+2",
               p.text("bc"));
           return vci_if_asked(p, make_galerkin_method(std::move(g)));

@@ -8,9 +8,7 @@ void register_fem(MethodRegistry& r, const MethodParts& parts) {
         common_galerkin_schema(10), [parts](const Params& p) {
           GalerkinRecipe g;
           g.trial = parts.approximations.create("linear-fe");
-          Params q;
-          q.set("n", p.number("quad"));
-          g.integration = parts.integrations.create("gauss-cells", q);
+          g.integration = parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
           g.description = fmt::format("linear elements, {}-point Gauss per element, bc={}",

@@ -21,14 +21,13 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
                     integration == "nodal" ? "nodal" : integration == "gauss-cells" ? "Gauss-cell" : "stress-point"),
         s, [parts, integration](const Params& p) {
           ParticleRecipe g;
-          Params q;
-          if (integration == "stress-points") q.set("layout", p.text("layout").c_str());
-          g.integration = parts.integrations.create(integration, q);
+          g.integration = parts.integrations.create(
+              integration,
+              integration == "stress-points" ? forward(p, {{"layout", "layout"}}) : Params{});
           set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
+          const Params a = forward(p, {{"kernel", "kernel"}});
           std::shared_ptr<const Approximation> shepard = parts.approximations.create("shepard", a);
           std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
           g.build = [shepard, mls](Discretization& d, int) {

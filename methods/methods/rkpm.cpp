@@ -50,13 +50,9 @@ void register_rkpm(MethodRegistry& r, const MethodParts& parts) {
                                 "exact (eq 6.2) or DEM approximation (eq 6.6)"));
   r.add("rkpm", "reproducing kernel particle method (004 II §3-7)", s, [parts](const Params& p) {
     GalerkinRecipe g;
-    Params a;
-    a.set("kernel", p.text("kernel").c_str());
-    a.set("derivative", p.text("derivative").c_str());
-    g.trial = parts.approximations.create("rkpm", a);
-    Params q;
-    q.set("n", p.number("quad"));
-    g.integration = parts.integrations.create("gauss-cells", q);
+    g.trial = parts.approximations.create(
+        "rkpm", forward(p, {{"kernel", "kernel"}, {"derivative", "derivative"}}));
+    g.integration = parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
     g.dilation_over_spacing = rkpm_dilation_scale(p) * std::pow(2.0, p.number("j"));
     g.essential = essential_from(p);
     g.penalty = p.number("penalty");

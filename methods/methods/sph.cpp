@@ -11,8 +11,7 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
   ParticleRecipe g;
   g.integration = parts.integrations.create("nodal");
   set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
-  Params a;
-  a.set("kernel", p.text("kernel").c_str());
+  const Params a = forward(p, {{"kernel", "kernel"}});
   std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
   std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
   g.build = [sph, mls, tables](Discretization& d, int) {
@@ -50,12 +49,8 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
   r.add("sph-galerkin", "Galerkin with the plain SPH kernel estimate (no correction, 004 II Fig. 3)",
         s, [parts](const Params& p) {
           GalerkinRecipe g;
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          g.trial = parts.approximations.create("sph", a);
-          Params q;
-          q.set("n", p.number("quad"));
-          g.integration = parts.integrations.create("gauss-cells", q);
+          g.trial = parts.approximations.create("sph", forward(p, {{"kernel", "kernel"}}));
+          g.integration = parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
           g.dilation_over_spacing = p.number("h");
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");

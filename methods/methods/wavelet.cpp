@@ -27,13 +27,9 @@ void register_wavelet(MethodRegistry& r, const MethodParts& parts) {
   r.add("wavelet", "multi-scale RKPM: Gaussian RK low band plus M Mexican-hat wavelet bands", s,
         [parts](const Params& p) {
           GalerkinRecipe g;
-          Params a;
-          a.set("bands", p.number("bands"));
-          a.set("wscale", p.number("wscale"));
-          g.trial = parts.approximations.create("wavelet", a);
-          Params q;
-          q.set("n", p.number("quad"));
-          g.integration = parts.integrations.create("gauss-cells", q);
+          g.trial = parts.approximations.create(
+              "wavelet", forward(p, {{"bands", "bands"}, {"wscale", "wscale"}}));
+          g.integration = parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
           Params window = p;
           window.set("kernel", "gaussian");
           g.dilation_over_spacing = rkpm_dilation_scale(window) * std::pow(2.0, p.number("j"));

@@ -10,16 +10,13 @@
 
 namespace mfv {
 
-namespace {
-
-/// How dmax scales the support (the catalogue's reading note on 003 eq 30): the radius is
-/// dmax·Δx ("radius"; the spline's argument is r/d_m), dmax·Δx/2 ("diameter") or 2·dmax·Δx
-/// (the spline's argument is r/2h with h = dmax·Δx, "2h").
-double support_factor(const std::string& convention) {
+double xefg_support_factor(const std::string& convention) {
   if (convention == "diameter") return 0.5;
   if (convention == "2h") return 2.0;
   return 1.0;
 }
+
+namespace {
 
 /// The Galerkin method of the recipe, plus the count of enrichment unknowns.
 class XefgMethod final : public Method {
@@ -72,16 +69,14 @@ void register_xefg(MethodRegistry& r, const MethodParts& parts) {
           if (p.integer("basis") > 2)
             throw InputError("parameter 'basis' of method 'xefg' must be 0, 1 or 2");
           GalerkinRecipe g;
-          Params a;
-          a.set("kernel", p.text("kernel").c_str());
-          a.set("basis", p.number("basis"));
-          std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
-          const double support = parts.kernels.create(p.text("kernel"))->support();
-          Params q;
-          q.set("n", p.number("quad"));
+          std::shared_ptr<const Approximation> mls = parts.approximations.create(
+              "mls", forward(p, {{"kernel", "kernel"}, {"basis", "basis"}}));
+          const auto W = parts.kernels.create(p.text("kernel"));
+          const double support = W->support();
           std::shared_ptr<const IntegrationScheme> cells =
-              parts.integrations.create("gauss-cells", q);
-          g.dilation_over_spacing = support_factor(p.text("support")) * p.number("dmax") / support;
+              parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
+          g.dilation_over_spacing =
+              dilation_for_radius(*W, xefg_support_factor(p.text("support")) * p.number("dmax"));
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
           const std::string base =
