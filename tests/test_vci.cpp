@@ -3,6 +3,9 @@
 /// VCI, the elastic patch test passed to round-off with vci=true, and the refusals; plus the
 /// RKPM window readings of 004 II Table 1 (rule=derived|fit|eq7.4).
 #include <cmath>
+#include <optional>
+#include <string>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -15,73 +18,91 @@
 namespace mfv {
 namespace {
 
-struct VciCase {
-  const char* method;
-  double perturbation;
-};
+/// Every method that declares a vci parameter, on uniform and perturbed lattices.
+class Vci : public ::testing::TestWithParam<std::tuple<std::string, double>> {};
 
-std::string case_name(const ::testing::TestParamInfo<VciCase>& info) {
-  std::string n = info.param.method;
-  for (char& ch : n)
-    if (ch == '-') ch = '_';
-  return n + (info.param.perturbation > 0 ? "_perturbed" : "_uniform");
-}
-
-// The three nodal and stress-point methods 001 finds wanting, on uniform and perturbed lattices.
-const VciCase kCases[] = {{"kbm-si", 0.0}, {"kbm-si", 0.3}, {"kbm-ni", 0.0},
-                          {"kbm-ni", 0.3}, {"efg-ni", 0.0}, {"efg-ni", 0.3}};
-
-class Vci : public ::testing::TestWithParam<VciCase> {};
-
-Discretization discretize(const char* method, const char* params, double perturbation) {
+std::optional<Discretization> discretize(const std::string& method, const char* params,
+                                         double perturbation, std::string& refusal) {
   const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");
-  const auto m = test_catalogue().methods.create(method, Params::parse(params));
-  return m->discretize(p->domain(), p->particles(7, perturbation), 1);
+  return discretize_if_supported(method, Params::parse(params), p->domain(),
+                                 p->particles(7, perturbation), refusal);
 }
+
+/// Nodal and stress-point sums (001's nodal methods) leave a defect in the divergence identity
+/// where supports are cut by the edges; Gauss cells nearly integrate it.
+bool nodal_sums(const Discretization& d) { return d.quadrature.kind != "gauss-cells"; }
 
 TEST_P(Vci, DefectOfTheDivergenceIdentityIsRemoved) {
   // Σ_q w_q ∇Ψ_I(x_q) − Σ_b w_b Ψ_I(x_b) n_b per particle: O(1) relative where supports are
   // cut by the edges under nodal and stress-point sums; VCI makes it vanish to round-off.
-  const VciCase& c = GetParam();
-  const Discretization plain = discretize(c.method, "", c.perturbation);
-  const DefectSummary before = summarize_defect(plain, divergence_defect(plain));
-  const Discretization vci = discretize(c.method, "vci=true", c.perturbation);
-  const DefectSummary after = summarize_defect(vci, divergence_defect(vci));
+  const auto& [method, perturbation] = GetParam();
+  std::string refusal;
+  const auto plain = discretize(method, "", perturbation, refusal);
+  if (!plain) GTEST_SKIP() << refusal;
+  const DefectSummary before = summarize_defect(*plain, divergence_defect(*plain));
+  const auto vci = discretize(method, "vci=true", perturbation, refusal);
+  ASSERT_TRUE(vci) << refusal;
+  const DefectSummary after = summarize_defect(*vci, divergence_defect(*vci));
   std::printf("[ defect   ] %-7s perturbation %.1f: max %.3e rms %.3e (particle %d); vci: max "
               "%.3e rms %.3e\n",
-              c.method, c.perturbation, before.max_relative, before.rms_relative,
+              method.c_str(), perturbation, before.max_relative, before.rms_relative,
               before.worst_particle, after.max_relative, after.rms_relative);
-  EXPECT_GT(before.max_relative, 1e-3) << "the quadrature integrates the identity exactly now?";
+  if (nodal_sums(*plain)) {
+    EXPECT_GT(before.max_relative, 1e-3) << "the quadrature integrates the identity exactly now?";
+  }
   EXPECT_LT(after.max_relative, 1e-12);
   // The trial table is untouched: VCI corrects only the test gradients.
-  EXPECT_EQ(plain.trial_q.grad, vci.trial_q.grad);
-  EXPECT_NE(plain.test_q.grad, vci.test_q.grad);
+  EXPECT_EQ(plain->trial_q.grad, vci->trial_q.grad);
+  EXPECT_NE(plain->test_q.grad, vci->test_q.grad);
 }
 
-TEST_P(Vci, PassesThePatchTestToRoundOff) {
-  const VciCase& c = GetParam();
-  CaseSpec spec{"elastic-patch", {}, c.method, Params::parse("vci=true"), 7, c.perturbation};
+TEST_P(Vci, PassesThePatchTestToRoundOffWhenLinearlyConsistent) {
+  // With the identity restored, a linearly consistent method on nodal or stress-point sums
+  // passes; on Gauss cells the patch error is not the identity's (measured: VCI changes it
+  // by under 1%), and without linear consistency (SPH) nothing is reproduced to restore.
+  const auto& [method, perturbation] = GetParam();
+  std::string refusal;
+  const auto d = discretize(method, "", perturbation, refusal);
+  if (!d) GTEST_SKIP() << refusal;
+  if (!nodal_sums(*d) || d->consistency() < 1)
+    GTEST_SKIP() << method << ": " << d->quadrature.kind << " rule, consistency "
+                 << d->consistency() << "; VCI alone does not make it pass";
+  CaseSpec spec{"elastic-patch", {}, method, Params::parse("vci=true"), 7, perturbation};
   const CaseResult r = run_case(test_catalogue(), spec);
   CaseSpec without = spec;
   without.method_params = Params();
   const CaseResult plain = run_case(test_catalogue(), without);
   std::printf("[ patch    ] %-7s perturbation %.1f: relative L2 %.3e without VCI, %.3e with\n",
-              c.method, c.perturbation, plain.errors.l2_rel, r.errors.l2_rel);
-  EXPECT_LT(r.errors.l2_rel, 1e-10) << c.method;
-  EXPECT_LT(r.errors.energy_rel, 1e-10) << c.method;
-  EXPECT_GT(plain.errors.l2_rel, 1e-4) << c.method << " passes without VCI now?";
+              method.c_str(), perturbation, plain.errors.l2_rel, r.errors.l2_rel);
+  EXPECT_LT(r.errors.l2_rel, 1e-10) << method;
+  EXPECT_LT(r.errors.energy_rel, 1e-10) << method;
+  EXPECT_GT(plain.errors.l2_rel, 1e-4) << method << " passes without VCI now?";
 }
 
-INSTANTIATE_TEST_SUITE_P(NodalAndStressPoint, Vci, ::testing::ValuesIn(kCases), case_name);
+std::string case_name(const ::testing::TestParamInfo<std::tuple<std::string, double>>& info) {
+  return test_name(std::get<0>(info.param)) +
+         (std::get<1>(info.param) > 0 ? "_perturbed" : "_uniform");
+}
 
-TEST(VciMethod, KeepsTheDivergenceIdentityOnCellRulesAndCollocation) {
+INSTANTIATE_TEST_SUITE_P(EveryVciMethod, Vci,
+                         ::testing::Combine(::testing::ValuesIn(methods_with_parameter("vci")),
+                                            ::testing::Values(0.0, 0.3)),
+                         case_name);
+
+class VciDecorator : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(VciDecorator, KeepsTheDivergenceIdentityOnEveryRule) {
   // The decorator is generic: Gauss cells (their own boundary rule) and the collocation
   // methods (test values are deltas at the boundary particles) satisfy the identity too.
-  for (const char* m : {"kbm-ci", "efg-ci", "rlm", "sph"}) {
-    const Discretization d = discretize(m, "vci=true", 0.2);
-    EXPECT_LT(summarize_defect(d, divergence_defect(d)).max_relative, 1e-12) << m;
-  }
+  std::string refusal;
+  const auto d = discretize(GetParam(), "vci=true", 0.2, refusal);
+  if (!d) GTEST_SKIP() << refusal;
+  EXPECT_LT(summarize_defect(*d, divergence_defect(*d)).max_relative, 1e-12) << GetParam();
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryVciMethod, VciDecorator,
+                         ::testing::ValuesIn(methods_with_parameter("vci")),
+                         [](const auto& info) { return test_name(info.param); });
 
 TEST(VciMethod, RefusesEulerianRetabulation) {
   const auto p = test_catalogue().problems.create_as<BoundaryValueProblem>("elastic-patch");

@@ -6,6 +6,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Dense>
@@ -44,6 +45,10 @@ struct Discretization {
   /// the loaded side, and the method's own values at a particle are its unknowns.
   bool particle_values = false;
   int enriched_unknowns = 0;  ///< unknowns after the particles' (xefg enrichment dofs)
+  /// Set by a method whose gradient table is not the trial approximation's and is less
+  /// consistent than it: symmetrized SPH (001 eq 25) differentiates constants exactly but not
+  /// linear fields, so 0; unset when consistency() is the trial approximation's order.
+  std::optional<int> gradient_consistency;
   Domain domain;
   std::shared_ptr<const IntegrationScheme> integration;  ///< for boundary rules
 
@@ -61,6 +66,12 @@ struct Discretization {
   /// Test function values on a boundary rule: the test approximation there, or δ at the
   /// rule's particles (`cell`) for particle_values methods.
   ShapeTable test_on(const IntegrationRule& boundary) const;
+  /// The highest degree of polynomial fields whose gradients the gradient table reproduces
+  /// exactly on any particle set (001 §3): 1, linear consistency, is what the patch test
+  /// needs; -1 when not even constants are reproduced (uncorrected kernel sums).
+  int consistency() const {
+    return gradient_consistency ? *gradient_consistency : trial->reproduction_order();
+  }
 };
 
 /// Throws InputError when `d` carries crack-enrichment unknowns (xefg), which `user` (e.g.

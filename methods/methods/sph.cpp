@@ -38,6 +38,7 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
               [](const ShapeTable& sph, const ParticleSet&, Discretization& d) {
                 d.trial_q = sph_symmetric_gradient(sph);
                 d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
+                d.gradient_consistency = 0;  // no correction: only constants (001 eq 25)
               });
         });
 
