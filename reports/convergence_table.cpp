@@ -1,0 +1,254 @@
+#include "reports/convergence_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "reports/markdown.hpp"
+
+namespace mfv {
+
+double least_squares_rate(const std::vector<double>& h, const std::vector<double>& e) {
+  std::vector<double> lx, ly;
+  for (std::size_t i = 0; i < h.size() && i < e.size(); ++i)
+    if (h[i] > 0 && e[i] > 0 && std::isfinite(e[i])) {
+      lx.push_back(std::log(h[i]));
+      ly.push_back(std::log(e[i]));
+    }
+  const std::size_t n = lx.size();
+  if (n < 2) return NAN;
+  // Running means rather than sums, in row order, as gsl_fit_linear accumulates them: the
+  // reports' rates were computed that way, and every digit must stay what it was.
+  double mean_x = 0, mean_y = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double k = i + 1.0;
+    mean_x += (lx[i] - mean_x) / k;
+    mean_y += (ly[i] - mean_y) / k;
+  }
+  double mean_dx2 = 0, mean_dxdy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double k = i + 1.0;
+    const double dx = lx[i] - mean_x, dy = ly[i] - mean_y;
+    mean_dx2 += (dx * dx - mean_dx2) / k;
+    mean_dxdy += (dx * dy - mean_dxdy) / k;
+  }
+  return mean_dxdy / mean_dx2;
+}
+
+std::vector<double> successive_rates(const std::vector<double>& h, const std::vector<double>& e) {
+  std::vector<double> out;
+  for (std::size_t i = 1; i < h.size() && i < e.size(); ++i)
+    out.push_back(std::log(e[i] / e[i - 1]) / std::log(h[i] / h[i - 1]));
+  return out;
+}
+
+namespace {
+
+/// RFC 4180 quoting, only where needed, so plain names stay plain for awk and gnuplot.
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"') out += '"';
+    out += ch;
+  }
+  return out + '"';
+}
+
+}  // namespace
+
+ConvergenceTable::ConvergenceTable(std::string abscissa)
+    : abscissa_(std::move(abscissa)), rate_format_([](double v) { return fmt_rate(v); }) {}
+
+void ConvergenceTable::add_row() {
+  ++rows_;
+  // Until set, a cell is NaN: "not measured", never a number.
+  for (auto& v : values_) v.push_back(NAN);
+}
+
+void ConvergenceTable::add_value(const std::string& column, double value) {
+  if (rows_ == 0)
+    throw std::logic_error(
+        fmt::format("ConvergenceTable: add_row() before add_value(\"{}\", …)", column));
+  auto it = std::find(columns_.begin(), columns_.end(), column);
+  std::size_t c = it - columns_.begin();
+  if (it == columns_.end()) {
+    columns_.push_back(column);
+    values_.emplace_back(rows_, NAN);
+    set_in_.push_back(0);
+    formats_.push_back([](double v) { return fmt_sci(v); });
+    footers_.emplace_back();
+    rated_.push_back(false);
+    omitted_.push_back(false);
+    rate_headers_.emplace_back();
+  } else if (set_in_[c] == rows_) {
+    throw std::logic_error(fmt::format(
+        "ConvergenceTable: row {} already holds a value for \"{}\"", rows_ - 1, column));
+  }
+  values_[c][rows_ - 1] = value;
+  set_in_[c] = rows_;
+}
+
+void ConvergenceTable::add_row(const std::vector<std::pair<std::string, double>>& values) {
+  add_row();
+  for (const auto& [column, value] : values) add_value(column, value);
+}
+
+bool ConvergenceTable::has_column(const std::string& column) const {
+  return std::find(columns_.begin(), columns_.end(), column) != columns_.end();
+}
+
+std::size_t ConvergenceTable::index(const std::string& column) const {
+  const auto it = std::find(columns_.begin(), columns_.end(), column);
+  if (it == columns_.end()) {
+    std::vector<std::string> quoted;
+    for (const auto& k : columns_) quoted.push_back(fmt::format("\"{}\"", k));
+    throw std::invalid_argument(
+        fmt::format("ConvergenceTable: no column \"{}\"; the columns are {}", column,
+                    quoted.empty() ? std::string("(none)") : fmt::format("{}", fmt::join(quoted, ", "))));
+  }
+  return it - columns_.begin();
+}
+
+std::size_t ConvergenceTable::rated_index(const std::string& column) const {
+  if (column == abscissa_)
+    throw std::invalid_argument(fmt::format(
+        "ConvergenceTable: \"{}\" is the abscissa the rates are taken against", column));
+  const std::size_t c = index(column);
+  if (!has_column(abscissa_))
+    throw std::invalid_argument(fmt::format(
+        "ConvergenceTable: no abscissa column \"{}\" to take the rates of \"{}\" against",
+        abscissa_, column));
+  return c;
+}
+
+const std::vector<double>& ConvergenceTable::values(const std::string& column) const {
+  return values_[index(column)];
+}
+
+double ConvergenceTable::value(std::size_t row, const std::string& column) const {
+  const std::size_t c = index(column);
+  if (row >= rows_)
+    throw std::out_of_range(
+        fmt::format("ConvergenceTable: row {} of \"{}\", but the table has {} rows", row,
+                    column, rows_));
+  return values_[c][row];
+}
+
+double ConvergenceTable::rate(const std::string& column) const {
+  const std::vector<double>& e = values_[rated_index(column)];
+  if (std::any_of(e.begin(), e.end(), [](double v) { return std::isnan(v); })) return NAN;
+  return least_squares_rate(values_[index(abscissa_)], e);
+}
+
+std::vector<double> ConvergenceTable::pairwise(const std::string& column) const {
+  return successive_rates(values_[index(abscissa_)], values_[rated_index(column)]);
+}
+
+void ConvergenceTable::evaluate_rates(const std::string& column, std::string rate_header) {
+  const std::size_t c = rated_index(column);
+  rated_[c] = true;
+  omitted_[c] = false;
+  rate_headers_[c] = std::move(rate_header);
+}
+
+void ConvergenceTable::evaluate_all_rates() {
+  for (std::size_t c = 0; c < columns_.size(); ++c)
+    if (columns_[c] != abscissa_ && !omitted_[c]) evaluate_rates(columns_[c], rate_headers_[c]);
+}
+
+void ConvergenceTable::omit_from_rates(const std::string& column) {
+  const std::size_t c = index(column);
+  omitted_[c] = true;
+  rated_[c] = false;
+}
+
+std::vector<std::string> ConvergenceTable::rated_columns() const {
+  std::vector<std::string> out;
+  for (std::size_t c = 0; c < columns_.size(); ++c)
+    if (rated_[c]) out.push_back(columns_[c]);
+  return out;
+}
+
+void ConvergenceTable::set_format(const std::string& column, Format format) {
+  formats_[index(column)] = std::move(format);
+}
+
+void ConvergenceTable::set_rate_format(Format format) { rate_format_ = std::move(format); }
+
+void ConvergenceTable::set_footer(const std::string& column, std::string text) {
+  footers_[index(column)] = std::move(text);
+}
+
+std::string ConvergenceTable::rate_header(std::size_t c) const {
+  return rate_headers_[c].empty() ? columns_[c] + " rate" : rate_headers_[c];
+}
+
+std::vector<std::string> ConvergenceTable::header() const {
+  std::vector<std::string> out;
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    out.push_back(columns_[c]);
+    if (rated_[c]) out.push_back(rate_header(c));
+  }
+  return out;
+}
+
+std::vector<std::vector<std::string>> ConvergenceTable::cells() const {
+  std::vector<std::vector<double>> pair(columns_.size());
+  for (std::size_t c = 0; c < columns_.size(); ++c)
+    if (rated_[c]) pair[c] = pairwise(columns_[c]);
+  std::vector<std::vector<std::string>> out;
+  for (std::size_t r = 0; r < rows_; ++r) {
+    std::vector<std::string> row;
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      row.push_back(formats_[c](value(r, columns_[c])));
+      if (rated_[c]) row.push_back(r == 0 ? "–" : rate_format_(pair[c][r - 1]));
+    }
+    out.push_back(std::move(row));
+  }
+  return out;
+}
+
+std::vector<std::string> ConvergenceTable::footer() const {
+  std::vector<std::string> out;
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    out.push_back(c == 0 && footers_[c].empty() ? footer_label_ : footers_[c]);
+    if (rated_[c]) out.push_back(rate_format_(rate(columns_[c])));
+  }
+  return out;
+}
+
+std::string ConvergenceTable::markdown() const {
+  const std::vector<std::string> head = header();
+  MarkdownTable t(head, std::vector<char>(head.size(), 'r'));
+  for (auto& row : cells()) t.add_row(std::move(row));
+  const bool any_footer =
+      std::any_of(rated_.begin(), rated_.end(), [](bool b) { return b; }) ||
+      std::any_of(footers_.begin(), footers_.end(), [](const std::string& s) { return !s.empty(); });
+  if (any_footer) t.add_row(footer());
+  return t.str();
+}
+
+std::string ConvergenceTable::csv() const {
+  std::string out;
+  std::vector<std::string> names;
+  for (const auto& h : header()) names.push_back(csv_field(h));
+  out += fmt::format("{}\n", fmt::join(names, ","));
+  std::vector<std::vector<double>> pair(columns_.size());
+  for (std::size_t c = 0; c < columns_.size(); ++c)
+    if (rated_[c]) pair[c] = pairwise(columns_[c]);
+  for (std::size_t r = 0; r < rows_; ++r) {
+    std::vector<std::string> row;
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      row.push_back(fmt::format("{}", value(r, columns_[c])));
+      if (rated_[c]) row.push_back(r == 0 ? "" : fmt::format("{}", pair[c][r - 1]));
+    }
+    out += fmt::format("{}\n", fmt::join(row, ","));
+  }
+  return out;
+}
+
+}  // namespace mfv
