@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -204,7 +203,7 @@ std::vector<std::vector<std::string>> ConvergenceTable::cells() const {
   for (std::size_t r = 0; r < rows_; ++r) {
     std::vector<std::string> row;
     for (std::size_t c = 0; c < columns_.size(); ++c) {
-      row.push_back(formats_[c](value(r, columns_[c])));
+      row.push_back(formats_[c](values_[c][r]));
       if (rated_[c]) row.push_back(r == 0 ? "–" : rate_format_(pair[c][r - 1]));
     }
     out.push_back(std::move(row));
@@ -243,7 +242,7 @@ std::string ConvergenceTable::csv() const {
   for (std::size_t r = 0; r < rows_; ++r) {
     std::vector<std::string> row;
     for (std::size_t c = 0; c < columns_.size(); ++c) {
-      row.push_back(fmt::format("{}", value(r, columns_[c])));
+      row.push_back(fmt::format("{}", values_[c][r]));
       if (rated_[c]) row.push_back(r == 0 ? "" : fmt::format("{}", pair[c][r - 1]));
     }
     out += fmt::format("{}\n", fmt::join(row, ","));

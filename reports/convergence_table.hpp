@@ -51,7 +51,8 @@ class ConvergenceTable {
   /// std::invalid_argument for an unknown column (listing the known ones) and
   /// std::out_of_range for a row past the last.
   double value(std::size_t row, const std::string& column) const;
-  /// Every row's value of `column`. Throws as value().
+  /// Every row's value of `column` (NaN where unset). Throws std::invalid_argument for an
+  /// unknown column.
   const std::vector<double>& values(const std::string& column) const;
 
   /// Least-squares rate of `column` against the abscissa (least_squares_rate); NaN if any row
@@ -83,7 +84,8 @@ class ConvergenceTable {
   /// How rates print in Markdown (default fmt_rate: 2 decimals, "–" for NaN).
   void set_rate_format(Format format);
   /// Text in `column`'s cell of the last Markdown row (a total CPU time, say); empty by
-  /// default. Throws std::invalid_argument for an unknown column.
+  /// default; in the first column it replaces the footer label. Throws
+  /// std::invalid_argument for an unknown column.
   void set_footer(const std::string& column, std::string text);
   /// Label of the last Markdown row, in the first column's cell (default "least squares").
   void set_footer_label(std::string label) { footer_label_ = std::move(label); }
