@@ -65,30 +65,27 @@ ConvergenceTable::ConvergenceTable(std::string abscissa)
 void ConvergenceTable::add_row() {
   ++rows_;
   // Until set, a cell is NaN: "not measured", never a number.
-  for (auto& v : values_) v.push_back(NAN);
+  for (auto& d : data_) d.values.push_back(NAN);
 }
 
 void ConvergenceTable::add_value(const std::string& column, double value) {
   if (rows_ == 0)
     throw std::logic_error(
         fmt::format("ConvergenceTable: add_row() before add_value(\"{}\", …)", column));
-  auto it = std::find(columns_.begin(), columns_.end(), column);
-  std::size_t c = it - columns_.begin();
+  const auto it = std::find(columns_.begin(), columns_.end(), column);
+  const std::size_t c = it - columns_.begin();
   if (it == columns_.end()) {
     columns_.push_back(column);
-    values_.emplace_back(rows_, NAN);
-    set_in_.push_back(0);
-    formats_.push_back([](double v) { return fmt_sci(v); });
-    footers_.emplace_back();
-    rated_.push_back(false);
-    omitted_.push_back(false);
-    rate_headers_.emplace_back();
-  } else if (set_in_[c] == rows_) {
+    Column d;
+    d.values.assign(rows_, NAN);
+    d.format = [](double v) { return fmt_sci(v); };
+    data_.push_back(std::move(d));
+  } else if (data_[c].set_in == rows_) {
     throw std::logic_error(fmt::format(
         "ConvergenceTable: row {} already holds a value for \"{}\"", rows_ - 1, column));
   }
-  values_[c][rows_ - 1] = value;
-  set_in_[c] = rows_;
+  data_[c].values[rows_ - 1] = value;
+  data_[c].set_in = rows_;
 }
 
 void ConvergenceTable::add_row(const std::vector<std::pair<std::string, double>>& values) {
@@ -102,14 +99,12 @@ bool ConvergenceTable::has_column(const std::string& column) const {
 
 std::size_t ConvergenceTable::index(const std::string& column) const {
   const auto it = std::find(columns_.begin(), columns_.end(), column);
-  if (it == columns_.end()) {
-    std::vector<std::string> quoted;
-    for (const auto& k : columns_) quoted.push_back(fmt::format("\"{}\"", k));
-    throw std::invalid_argument(
-        fmt::format("ConvergenceTable: no column \"{}\"; the columns are {}", column,
-                    quoted.empty() ? std::string("(none)") : fmt::format("{}", fmt::join(quoted, ", "))));
-  }
-  return it - columns_.begin();
+  if (it != columns_.end()) return it - columns_.begin();
+  std::vector<std::string> quoted;
+  for (const auto& k : columns_) quoted.push_back(fmt::format("\"{}\"", k));
+  throw std::invalid_argument(fmt::format(
+      "ConvergenceTable: no column \"{}\"; the columns are {}", column,
+      quoted.empty() ? std::string("(none)") : fmt::format("{}", fmt::join(quoted, ", "))));
 }
 
 std::size_t ConvergenceTable::rated_index(const std::string& column) const {
@@ -125,7 +120,7 @@ std::size_t ConvergenceTable::rated_index(const std::string& column) const {
 }
 
 const std::vector<double>& ConvergenceTable::values(const std::string& column) const {
-  return values_[index(column)];
+  return data_[index(column)].values;
 }
 
 double ConvergenceTable::value(std::size_t row, const std::string& column) const {
@@ -134,63 +129,64 @@ double ConvergenceTable::value(std::size_t row, const std::string& column) const
     throw std::out_of_range(
         fmt::format("ConvergenceTable: row {} of \"{}\", but the table has {} rows", row,
                     column, rows_));
-  return values_[c][row];
+  return data_[c].values[row];
 }
 
 double ConvergenceTable::rate(const std::string& column) const {
-  const std::vector<double>& e = values_[rated_index(column)];
+  const std::vector<double>& e = data_[rated_index(column)].values;
   if (std::any_of(e.begin(), e.end(), [](double v) { return std::isnan(v); })) return NAN;
-  return least_squares_rate(values_[index(abscissa_)], e);
+  return least_squares_rate(data_[index(abscissa_)].values, e);
 }
 
 std::vector<double> ConvergenceTable::pairwise(const std::string& column) const {
-  return successive_rates(values_[index(abscissa_)], values_[rated_index(column)]);
+  return successive_rates(data_[index(abscissa_)].values, data_[rated_index(column)].values);
 }
 
 void ConvergenceTable::evaluate_rates(const std::string& column, std::string rate_header) {
-  const std::size_t c = rated_index(column);
-  rated_[c] = true;
-  omitted_[c] = false;
-  rate_headers_[c] = std::move(rate_header);
+  Column& d = data_[rated_index(column)];
+  d.rated = true;
+  d.omitted = false;
+  d.rate_header = std::move(rate_header);
 }
 
 void ConvergenceTable::evaluate_all_rates() {
   for (std::size_t c = 0; c < columns_.size(); ++c)
-    if (columns_[c] != abscissa_ && !omitted_[c]) evaluate_rates(columns_[c], rate_headers_[c]);
+    if (columns_[c] != abscissa_ && !data_[c].omitted)
+      evaluate_rates(columns_[c], data_[c].rate_header);
 }
 
 void ConvergenceTable::omit_from_rates(const std::string& column) {
-  const std::size_t c = index(column);
-  omitted_[c] = true;
-  rated_[c] = false;
+  Column& d = data_[index(column)];
+  d.omitted = true;
+  d.rated = false;
 }
 
 std::vector<std::string> ConvergenceTable::rated_columns() const {
   std::vector<std::string> out;
   for (std::size_t c = 0; c < columns_.size(); ++c)
-    if (rated_[c]) out.push_back(columns_[c]);
+    if (data_[c].rated) out.push_back(columns_[c]);
   return out;
 }
 
 void ConvergenceTable::set_format(const std::string& column, Format format) {
-  formats_[index(column)] = std::move(format);
+  data_[index(column)].format = std::move(format);
 }
 
 void ConvergenceTable::set_rate_format(Format format) { rate_format_ = std::move(format); }
 
 void ConvergenceTable::set_footer(const std::string& column, std::string text) {
-  footers_[index(column)] = std::move(text);
+  data_[index(column)].footer = std::move(text);
 }
 
 std::string ConvergenceTable::rate_header(std::size_t c) const {
-  return rate_headers_[c].empty() ? columns_[c] + " rate" : rate_headers_[c];
+  return data_[c].rate_header.empty() ? columns_[c] + " rate" : data_[c].rate_header;
 }
 
 std::vector<std::string> ConvergenceTable::header() const {
   std::vector<std::string> out;
   for (std::size_t c = 0; c < columns_.size(); ++c) {
     out.push_back(columns_[c]);
-    if (rated_[c]) out.push_back(rate_header(c));
+    if (data_[c].rated) out.push_back(rate_header(c));
   }
   return out;
 }
@@ -198,13 +194,13 @@ std::vector<std::string> ConvergenceTable::header() const {
 std::vector<std::vector<std::string>> ConvergenceTable::cells() const {
   std::vector<std::vector<double>> pair(columns_.size());
   for (std::size_t c = 0; c < columns_.size(); ++c)
-    if (rated_[c]) pair[c] = pairwise(columns_[c]);
+    if (data_[c].rated) pair[c] = pairwise(columns_[c]);
   std::vector<std::vector<std::string>> out;
   for (std::size_t r = 0; r < rows_; ++r) {
     std::vector<std::string> row;
     for (std::size_t c = 0; c < columns_.size(); ++c) {
-      row.push_back(formats_[c](values_[c][r]));
-      if (rated_[c]) row.push_back(r == 0 ? "–" : rate_format_(pair[c][r - 1]));
+      row.push_back(data_[c].format(data_[c].values[r]));
+      if (data_[c].rated) row.push_back(r == 0 ? "–" : rate_format_(pair[c][r - 1]));
     }
     out.push_back(std::move(row));
   }
@@ -214,8 +210,8 @@ std::vector<std::vector<std::string>> ConvergenceTable::cells() const {
 std::vector<std::string> ConvergenceTable::footer() const {
   std::vector<std::string> out;
   for (std::size_t c = 0; c < columns_.size(); ++c) {
-    out.push_back(c == 0 && footers_[c].empty() ? footer_label_ : footers_[c]);
-    if (rated_[c]) out.push_back(rate_format_(rate(columns_[c])));
+    out.push_back(c == 0 && data_[c].footer.empty() ? footer_label_ : data_[c].footer);
+    if (data_[c].rated) out.push_back(rate_format_(rate(columns_[c])));
   }
   return out;
 }
@@ -224,26 +220,24 @@ std::string ConvergenceTable::markdown() const {
   const std::vector<std::string> head = header();
   MarkdownTable t(head, std::vector<char>(head.size(), 'r'));
   for (auto& row : cells()) t.add_row(std::move(row));
-  const bool any_footer =
-      std::any_of(rated_.begin(), rated_.end(), [](bool b) { return b; }) ||
-      std::any_of(footers_.begin(), footers_.end(), [](const std::string& s) { return !s.empty(); });
-  if (any_footer) t.add_row(footer());
+  if (std::any_of(data_.begin(), data_.end(),
+                  [](const Column& d) { return d.rated || !d.footer.empty(); }))
+    t.add_row(footer());
   return t.str();
 }
 
 std::string ConvergenceTable::csv() const {
-  std::string out;
   std::vector<std::string> names;
   for (const auto& h : header()) names.push_back(csv_field(h));
-  out += fmt::format("{}\n", fmt::join(names, ","));
+  std::string out = fmt::format("{}\n", fmt::join(names, ","));
   std::vector<std::vector<double>> pair(columns_.size());
   for (std::size_t c = 0; c < columns_.size(); ++c)
-    if (rated_[c]) pair[c] = pairwise(columns_[c]);
+    if (data_[c].rated) pair[c] = pairwise(columns_[c]);
   for (std::size_t r = 0; r < rows_; ++r) {
     std::vector<std::string> row;
     for (std::size_t c = 0; c < columns_.size(); ++c) {
-      row.push_back(fmt::format("{}", values_[c][r]));
-      if (rated_[c]) row.push_back(r == 0 ? "" : fmt::format("{}", pair[c][r - 1]));
+      row.push_back(fmt::format("{}", data_[c].values[r]));
+      if (data_[c].rated) row.push_back(r == 0 ? "" : fmt::format("{}", pair[c][r - 1]));
     }
     out += fmt::format("{}\n", fmt::join(row, ","));
   }

@@ -111,15 +111,20 @@ class ConvergenceTable {
   std::size_t rated_index(const std::string& column) const;  ///< also refuses the abscissa
   std::string rate_header(std::size_t c) const;
 
+  /// What the table keeps per column besides its name.
+  struct Column {
+    std::vector<double> values;  ///< one per row, NaN where unset
+    std::size_t set_in = 0;      ///< 1 + the last row that set it (0: none)
+    Format format;
+    std::string footer;
+    bool rated = false, omitted = false;
+    std::string rate_header;  ///< empty: "<column> rate"
+  };
+
   std::string abscissa_;
   std::size_t rows_ = 0;
-  std::vector<std::string> columns_;
-  std::vector<std::vector<double>> values_;  ///< per column, one value per row
-  std::vector<std::size_t> set_in_;          ///< per column: 1 + the last row that set it
-  std::vector<Format> formats_;
-  std::vector<std::string> footers_;
-  std::vector<bool> rated_, omitted_;
-  std::vector<std::string> rate_headers_;  ///< empty: "<column> rate"
+  std::vector<std::string> columns_;  ///< names, in insertion order
+  std::vector<Column> data_;          ///< matching columns_
   Format rate_format_;
   std::string footer_label_ = "least squares";
 };
