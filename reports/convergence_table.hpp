@@ -32,7 +32,8 @@ class ConvergenceTable {
   /// any other (added with add_value) and is never rated itself.
   explicit ConvergenceTable(std::string abscissa = "h");
 
-  /// Starts the row of a new resolution (rows are kept coarsest first, in the order added).
+  /// Starts the row of a new resolution; rows stay in the order added (coarsest first, as
+  /// verify runs them; the table neither sorts nor checks it).
   void add_row();
   /// Sets `column` in the current row. A new column is appended after the existing ones (the
   /// rows before it hold NaN there). Throws std::logic_error before the first add_row() and
