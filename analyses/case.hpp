@@ -211,12 +211,29 @@ struct CaseResult {
   }
 };
 
-/// Convergence rates: least-squares slope of ln(error) against ln(h) (004 II eq 7.3) and the
-/// slope between each pair of successive resolutions.
+/// Convergence rates of a study keyed by error column ("L2", "H1-semi", "energy"), as
+/// deal.II's ConvergenceTable keys them: the least-squares slope of ln(error) against ln(h)
+/// (004 II eq 7.3) and the slopes between successive resolutions, computed by a
+/// reports/convergence_table.hpp table of the study's errors (study_rates). A column that is
+/// not there reads NaN and no pairwise rates.
 struct Rates {
-  double l2 = 0, h1_semi = 0, energy = 0;
-  std::vector<double> l2_pairwise, h1_semi_pairwise, energy_pairwise;
+  std::map<std::string, double> fitted;
+  std::map<std::string, std::vector<double>> pairwise;
+  double rate(const std::string& column) const {
+    const auto it = fitted.find(column);
+    return it == fitted.end() ? NAN : it->second;
+  }
+  const std::vector<double>& pairwise_of(const std::string& column) const {
+    static const std::vector<double> none;
+    const auto it = pairwise.find(column);
+    return it == pairwise.end() ? none : it->second;
+  }
 };
+
+/// The error columns of a study's rates: the norms of ErrorNorms by name.
+inline constexpr const char* kRateL2 = "L2";
+inline constexpr const char* kRateH1Semi = "H1-semi";
+inline constexpr const char* kRateEnergy = "energy";
 
 struct StudyResult {
   std::string label;               ///< "rkpm kernel=gaussian,j=1"

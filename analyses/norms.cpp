@@ -1,5 +1,7 @@
 #include "analyses/norms.hpp"
 
+#include "reports/convergence_table.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -72,21 +74,16 @@ ErrorNorms method_rule_error_norms(const BoundaryValueProblem& problem, const Di
 }
 
 Rates study_rates(const std::vector<CaseResult>& cases, bool paper_rule) {
-  std::vector<double> h, l2, h1, en;
+  ConvergenceTable table("h");
   for (const auto& c : cases) {
     const ErrorNorms& e = paper_rule ? c.errors_paper : c.errors;
-    h.push_back(c.h);
-    l2.push_back(e.l2);
-    h1.push_back(e.h1_semi);
-    en.push_back(e.energy);
+    table.add_row({{"h", c.h}, {kRateL2, e.l2}, {kRateH1Semi, e.h1_semi}, {kRateEnergy, e.energy}});
   }
   Rates r;
-  r.l2 = fitted_rate(h, l2);
-  r.h1_semi = fitted_rate(h, h1);
-  r.energy = fitted_rate(h, en);
-  r.l2_pairwise = pairwise_rates(h, l2);
-  r.h1_semi_pairwise = pairwise_rates(h, h1);
-  r.energy_pairwise = pairwise_rates(h, en);
+  for (const char* column : {kRateL2, kRateH1Semi, kRateEnergy}) {
+    r.fitted[column] = cases.empty() ? NAN : table.rate(column);
+    r.pairwise[column] = cases.empty() ? std::vector<double>{} : table.pairwise(column);
+  }
   return r;
 }
 

@@ -381,9 +381,9 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
                      "L2 rate (paper rule)", "H1 rate (paper rule)", "L2 trend"},
                     {'l', 'r', 'r', 'r', 'r', 'r', 'r', 'l'});
     for (const auto& s : section.studies)
-      t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
-                 fmt_rate(s.rates.h1_semi), fmt_rates(s.rates.h1_semi_pairwise),
-                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.h1_semi),
+      t.add_row({s.label, fmt_rate(s.rates.rate("L2")), fmt_rates(s.rates.pairwise_of("L2")),
+                 fmt_rate(s.rates.rate("H1-semi")), fmt_rates(s.rates.pairwise_of("H1-semi")),
+                 fmt_rate(s.rates_paper.rate("L2")), fmt_rate(s.rates_paper.rate("H1-semi")),
                  judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label()});
     md += t.str() + "\n";
   }
@@ -396,11 +396,11 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
         h1 ? convergence_plot(title + ": H1 seminorm error", section.studies,
                               "relative H1 seminorm error |u_h - u|_1 / |u|_1 (dimensionless)",
                               [](const CaseResult& c) { return c.errors.h1_semi_rel; },
-                              [](const Rates& r) { return r.h1_semi; })
+                              [](const Rates& r) { return r.rate("H1-semi"); })
            : convergence_plot(title + ": L2 error", section.studies,
                               "relative L2 error ||u_h - u|| / ||u|| (dimensionless)",
                               [](const CaseResult& c) { return c.errors.l2_rel; },
-                              [](const Rates& r) { return r.l2; });
+                              [](const Rates& r) { return r.rate("L2"); });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_{} plot skipped: {}_\n\n", h1 ? "H1" : "L2", *why);
     else
@@ -675,10 +675,10 @@ PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResul
     return convergence_plot(
         title, studies, "H1 seminorm error ||u_h' - u'||",
         [](const CaseResult& c) { return c.errors.h1_semi; },
-        [](const Rates& r) { return r.h1_semi; });
+        [](const Rates& r) { return r.rate("H1-semi"); });
   return convergence_plot(
       title, studies, "L2 error ||u_h - u||", [](const CaseResult& c) { return c.errors.l2; },
-      [](const Rates& r) { return r.l2; });
+      [](const Rates& r) { return r.rate("L2"); });
 }
 
 }  // namespace mfv

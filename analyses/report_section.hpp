@@ -135,8 +135,8 @@ std::string write_problem_section(const Registries& catalogue, const ReportSecti
                                   const std::filesystem::path& dir, bool vtk);
 
 /// A log–log plot of the error against h, one series per study, labelled
-/// "<study label> (rate 2.01)": the L2 error and rates.l2, or with `h1` the H1 seminorm
-/// error and rates.h1_semi. Errors are CaseResult::errors (the common fine rule). Reference
+/// "<study label> (rate 2.01)": the L2 error and its rate ("L2"), or with `h1` the H1
+/// seminorm error and its rate ("H1-semi"). Errors are CaseResult::errors (the common fine rule). Reference
 /// slopes 1 and 2, and the largest fitted rate rounded when it is above 2.
 PlotSpec convergence_plot(const std::string& title, const std::vector<StudyResult>& studies,
                           bool h1);

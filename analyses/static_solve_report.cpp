@@ -29,8 +29,8 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
     m.finest_nodes = f.spec.nodes;
     m.finest_particles = f.particles;
     m.resolutions = static_cast<int>(s.cases.size());
-    m.l2_rate = s.rates.l2;
-    m.energy_rate = s.rates.energy;
+    m.l2_rate = s.rates.rate("L2");
+    m.energy_rate = s.rates.rate("energy");
     m.l2_rel_finest = f.errors.l2_rel;
     m.energy_rel_finest = f.errors.energy_rel;
     m.problem_params = f.spec.problem_params;
@@ -138,9 +138,9 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
                      "L2 rate (own)", "energy rate (own)", "L2 trend", "energy trend"},
                     {'l', 'r', 'r', 'r', 'r', 'r', 'r', 'l', 'l'});
     for (const auto& s : section.studies)
-      t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise),
-                 fmt_rate(s.rates.energy), fmt_rates(s.rates.energy_pairwise),
-                 fmt_rate(s.rates_paper.l2), fmt_rate(s.rates_paper.energy),
+      t.add_row({s.label, fmt_rate(s.rates.rate("L2")), fmt_rates(s.rates.pairwise_of("L2")),
+                 fmt_rate(s.rates.rate("energy")), fmt_rates(s.rates.pairwise_of("energy")),
+                 fmt_rate(s.rates_paper.rate("L2")), fmt_rate(s.rates_paper.rate("energy")),
                  judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label(),
                  judge_study(s, [](const CaseResult& c) { return c.errors.energy_rel; }).label()});
     md += t.str() + "\n";
@@ -154,11 +154,11 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
         energy ? convergence_plot(
                      title + ": energy error", section.studies, "relative energy error",
                      [](const CaseResult& c) { return c.errors.energy_rel; },
-                     [](const Rates& r) { return r.energy; })
+                     [](const Rates& r) { return r.rate("energy"); })
                : convergence_plot(
                      title + ": L2 error", section.studies, "relative L2 displacement error",
                      [](const CaseResult& c) { return c.errors.l2_rel; },
-                     [](const Rates& r) { return r.l2; });
+                     [](const Rates& r) { return r.rate("L2"); });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_{} plot skipped: {}_\n\n", energy ? "energy" : "L2", *why);
     else

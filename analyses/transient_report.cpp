@@ -204,14 +204,14 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                       main_error);
     MarkdownTable t({"method", "rate", "pairwise"}, {'l', 'r', 'r'});
     for (const auto& s : section.studies)
-      t.add_row({s.label, fmt_rate(s.rates.l2), fmt_rates(s.rates.l2_pairwise)});
+      t.add_row({s.label, fmt_rate(s.rates.rate("L2")), fmt_rates(s.rates.pairwise_of("L2"))});
     md += t.str() + "\n";
     const std::string name = fmt::format("plots/{}-error.svg", base);
     // The axis says what is plotted: the relative error the problem measures, with units.
     const PlotSpec spec = convergence_plot(
         title + ": main error", section.studies, main_error,
         [](const CaseResult& c) { return c.errors.l2_rel; },
-        [](const Rates& r) { return r.l2; });
+        [](const Rates& r) { return r.rate("L2"); });
     if (const auto why = write_svg_plot(dir / name, spec))
       md += fmt::format("_error plot skipped: {}_\n\n", *why);
     else

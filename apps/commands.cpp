@@ -88,14 +88,14 @@ std::string convergence_table(const StudyResult& s) {
     const std::vector<double>* pairwise;
     double fit;
   };
-  std::vector<Norm> norms{{"L2 rel", &ErrorNorms::l2_rel, &s.rates.l2_pairwise, s.rates.l2}};
+  std::vector<Norm> norms{{"L2 rel", &ErrorNorms::l2_rel, &s.rates.pairwise_of("L2"), s.rates.rate("L2")}};
   if (!first.find<TransientData>()) {
     if (first.components > 1)
-      norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.energy_pairwise,
-                       s.rates.energy});
+      norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.pairwise_of("energy"),
+                       s.rates.rate("energy")});
     else
-      norms.push_back({"H1-semi rel", &ErrorNorms::h1_semi_rel, &s.rates.h1_semi_pairwise,
-                       s.rates.h1_semi});
+      norms.push_back({"H1-semi rel", &ErrorNorms::h1_semi_rel, &s.rates.pairwise_of("H1-semi"),
+                       s.rates.rate("H1-semi")});
   }
   std::vector<std::string> header{"nodes [1]", "h [length]"};
   std::vector<char> align{'r', 'r'};
@@ -594,15 +594,15 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                                 : fmt::format("{} violated", oc.bands.size());
     verdicts.add_row(
         {oc.mc->id, oc.mc->problem, oc.mc->method, fmt::format("{}", fmt::join(nodes, ",")),
-         oc.study ? fmt_rate(oc.study->rates.l2) : "–",
-         oc.study ? fmt_rate(oc.study->rates.h1_semi) : "–",
-         vector_field ? fmt_rate(oc.study->rates.energy) : "–", bands_state, base_state,
+         oc.study ? fmt_rate(oc.study->rates.rate("L2")) : "–",
+         oc.study ? fmt_rate(oc.study->rates.rate("H1-semi")) : "–",
+         vector_field ? fmt_rate(oc.study->rates.rate("energy")) : "–", bands_state, base_state,
          ok ? "PASS" : "FAIL"});
     verdicts_md += fmt::format(
         "| {} | {} | {} | {} | {} | {} | {} | {} |\n", oc.mc->id, fmt::join(nodes, ","),
-        oc.study ? fmt_rate(oc.study->rates.l2) : "–",
-        oc.study ? fmt_rate(oc.study->rates.h1_semi) : "–",
-        vector_field ? fmt_rate(oc.study->rates.energy) : "–", bands_state, base_state,
+        oc.study ? fmt_rate(oc.study->rates.rate("L2")) : "–",
+        oc.study ? fmt_rate(oc.study->rates.rate("H1-semi")) : "–",
+        vector_field ? fmt_rate(oc.study->rates.rate("energy")) : "–", bands_state, base_state,
         ok ? "PASS" : "**FAIL**");
     VerifyCaseJson cj{oc.mc->id, oc.mc->problem, oc.mc->method, resolutions(*oc.mc, o.full),
                       bands_state, base_state, ok ? "PASS" : "FAIL", {},

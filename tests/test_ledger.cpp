@@ -256,7 +256,7 @@ StudyResult fake_study(const std::string& problem, std::vector<int> nodes,
     r.errors.l2_rel = peaks[i];
     s.cases.push_back(r);
   }
-  s.rates.l2 = l2_rate;
+  s.rates.fitted["L2"] = l2_rate;
   return s;
 }
 

@@ -540,11 +540,11 @@ StudyResult study(int resolutions = 3) {
     r.headline["u at x=5"] = 0.5;
     s.cases.push_back(r);
   }
-  s.rates.l2 = 2.0;
-  s.rates.h1_semi = 1.0;
+  s.rates.fitted["L2"] = 2.0;
+  s.rates.fitted["H1-semi"] = 1.0;
   // A different paper-rule rate: check_bands must use the common rule.
-  s.rates_paper.l2 = 99;
-  s.rates_paper.h1_semi = 99;
+  s.rates_paper.fitted["L2"] = 99;
+  s.rates_paper.fitted["H1-semi"] = 99;
   return s;
 }
 
@@ -617,13 +617,13 @@ const std::vector<BandCheck> kBandChecks = {
      edited(study(), [](StudyResult& s) { s.cases.back().headline["peak du/dx at x=3"] = 10.2; }),
      {}},
     {"TightenedRateBandGivesOneViolation", "l2_rate = [2.05, 2.1]\n" + kOtherInsideBands,
-     edited(study(), [](StudyResult& s) { s.rates.l2 = 1.987654; }),
+     edited(study(), [](StudyResult& s) { s.rates.fitted["L2"] = 1.987654; }),
      {{"l2_rate", eq(1.987654), 7,
        {"laplace-tanh/fem", "l2_rate", "1.988", "suites/nightly.toml:7", "2.05"}, {}, eq(2.05),
        eq(2.1)}},
      "suites/nightly.toml"},
     {"UsesCommonRuleRates", "h1_rate = [0.9, 1.1]\n",
-     edited(study(), [](StudyResult& s) { s.rates.h1_semi = 1.5; s.rates_paper.h1_semi = 1.0; }),
+     edited(study(), [](StudyResult& s) { s.rates.fitted["H1-semi"] = 1.5; s.rates_paper.fitted["H1-semi"] = 1.0; }),
      {{"h1_rate", eq(1.5), 7}}},
     {"FinestMetricsUseTheLastResolution", kFinestBands, study(), {}},
     {"FinestMetricOutsideAtTheLastResolution", kFinestBands,
@@ -641,11 +641,11 @@ const std::vector<BandCheck> kBandChecks = {
      {}},
     // "1.9" with 4 or 5 digits would contradict the message.
     {"PrintedValueIsVisiblyOutside", "l2_rate = [1.9, 2.1]\n",
-     edited(study(), [](StudyResult& s) { s.rates.l2 = 1.89996; }),
+     edited(study(), [](StudyResult& s) { s.rates.fitted["L2"] = 1.89996; }),
      {{"l2_rate", eq(1.89996), 7, {"1.89996"}, {"= 1.9 "}}}},
     // In band_metrics() order: h1_rate before l2_finest.
     {"NaNViolatesEvenAnUnboundedBand", "l2_finest = [-inf, inf]\nh1_rate = [-inf, inf]\n",
-     edited(study(), [](StudyResult& s) { s.cases.back().errors.l2 = s.rates.h1_semi = kNaN; }),
+     edited(study(), [](StudyResult& s) { s.cases.back().errors.l2 = s.rates.fitted["H1-semi"] = kNaN; }),
      {{"h1_rate", kIsNaN, 8, {"laplace-tanh/fem", "not a number", "bands.toml:"}},
       {"l2_finest", kIsNaN, 7,
        {"laplace-tanh/fem", "not a number", "bands.toml:", "l2_finest", "bands.toml:7"}}}},
@@ -806,9 +806,9 @@ TEST(BaselineFromStudy, RecordsRatesAndErrors) {
     r.errors.h1 = -1;  // the full H1 norm is not recorded
     s.cases.push_back(r);
   }
-  s.rates.l2 = 2.5;
-  s.rates.h1_semi = 1.5;
-  s.rates_paper.l2 = 9;
+  s.rates.fitted["L2"] = 2.5;
+  s.rates.fitted["H1-semi"] = 1.5;
+  s.rates_paper.fitted["L2"] = 9;
   const BaselineCase c = baseline_from_study(s);
   EXPECT_EQ(c.l2_rate, 2.5);
   EXPECT_EQ(c.h1_rate, 1.5);

@@ -107,7 +107,7 @@ class PatchTest1D : public ::testing::TestWithParam<std::tuple<std::string, doub
 
 TEST_P(PatchTest1D, AsTheMethodsConsistencyAndQuadraturePredict) {
   const auto& [method, perturbation] = GetParam();
-  const auto patch = patch_catalogue().problems.create("linear-patch");
+  const auto patch = patch_catalogue().problems.create_as<BoundaryValueProblem>("linear-patch");
   std::string refusal;
   const auto d = discretize_if_supported(method, {}, patch->domain(),
                                          patch->particles(11, perturbation), refusal);

@@ -181,7 +181,7 @@ StudyResult laplace_study(const std::string& label, const std::string& method,
     h.push_back(c.h);
     e.push_back(c.errors.l2);
   }
-  s.rates.l2 = s.rates.h1_semi = 2;
+  s.rates.fitted["L2"] = s.rates.fitted["H1-semi"] = 2;
   return s;
 }
 
@@ -400,12 +400,12 @@ PlotSpec many_studies_plot(int studies, double rate) {
   std::vector<StudyResult> all;
   for (int k = 0; k < studies; ++k) {
     StudyResult s = laplace_study("method-" + std::to_string(k), "fem", {21, 41, 81}, 1.0 + k);
-    s.rates.l2 = rate;
+    s.rates.fitted["L2"] = rate;
     all.push_back(s);
   }
   return convergence_plot("t", all, "relative L2 error (dimensionless)",
                           [](const CaseResult& c) { return c.errors.l2_rel; },
-                          [](const Rates& r) { return r.l2; });
+                          [](const Rates& r) { return r.rate("L2"); });
 }
 
 TEST(PlotScript, LegendOutsideDistinctColoursAndReferenceSlopes) {

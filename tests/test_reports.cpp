@@ -373,10 +373,10 @@ TEST(Plot, MissingGnuplotGivesReason) {
 TEST(Plot, ConvergencePlotHasOneSeriesPerStudyWithRate) {
   std::vector<StudyResult> studies(2);
   studies[0].label = "fem";
-  studies[0].rates.l2 = 2.0149;
-  studies[0].rates.h1_semi = 0.998;
+  studies[0].rates.fitted["L2"] = 2.0149;
+  studies[0].rates.fitted["H1-semi"] = 0.998;
   studies[1].label = "rkpm kernel=gaussian";
-  studies[1].rates.l2 = kNaN;
+  studies[1].rates.fitted["L2"] = kNaN;
   for (int n : {8, 16, 32}) {
     CaseResult c;
     c.h = 1.0 / n;

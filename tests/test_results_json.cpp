@@ -86,7 +86,7 @@ TEST(ResultsJson, NonFiniteNumbersAreNullWithAReason) {
   r.data<StaticSolveData>().solve.condition = NAN;
   r.headline["peak du/dx at x=3"] = NAN;
   s.cases.push_back(r);
-  s.rates.l2 = NAN;  // one resolution: no rate
+  s.rates.fitted["L2"] = NAN;  // one resolution: no rate
   const json doc = json::parse(results_json(c, RunInfo{"study", "t", 2, 1, 1}, {s}, {}));
   const json& res = doc["studies"][0]["resolutions"][0];
   EXPECT_TRUE(res["errors"]["common"]["l2"]["relative"].is_null());

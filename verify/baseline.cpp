@@ -123,8 +123,8 @@ std::string baseline_to_toml(const Baseline& b) {
 
 BaselineCase baseline_from_study(const StudyResult& s) {
   BaselineCase c;
-  c.l2_rate = s.cases.size() >= 2 ? s.rates.l2 : kNaN;
-  c.h1_rate = s.cases.size() >= 2 ? s.rates.h1_semi : kNaN;
+  c.l2_rate = s.cases.size() >= 2 ? s.rates.rate("L2") : kNaN;
+  c.h1_rate = s.cases.size() >= 2 ? s.rates.rate("H1-semi") : kNaN;
   for (const auto& r : s.cases)
     c.resolutions.push_back(BaselineEntry{r.spec.nodes, r.errors.l2, r.errors.h1_semi,
                                           r.errors.l2_rel, r.errors.h1_semi_rel});

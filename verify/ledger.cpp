@@ -178,9 +178,9 @@ std::string join_values(const std::vector<double>& v, bool exact = false) {
 
 /// One row's value of a measure in a study: a least-squares rate or a headline at the finest.
 double measure_value(const StudyResult& s, const std::string& measure) {
-  if (measure == "l2_rate") return s.rates.l2;
-  if (measure == "h1_rate") return s.rates.h1_semi;
-  if (measure == "energy_rate") return s.rates.energy;
+  if (measure == "l2_rate") return s.rates.rate("L2");
+  if (measure == "h1_rate") return s.rates.rate("H1-semi");
+  if (measure == "energy_rate") return s.rates.rate("energy");
   if (measure.rfind("headline:", 0) == 0 && !s.cases.empty()) {
     const auto it = s.cases.back().headline.find(measure.substr(9));
     return it == s.cases.back().headline.end() ? NAN : it->second;

@@ -455,9 +455,9 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
       if (s.cases.size() < 2)
         why = fmt::format("a rate needs at least 2 resolutions, the study has {}", s.cases.size());
       else
-        value = metric == "l2_rate"   ? s.rates.l2
-                : metric == "h1_rate" ? s.rates.h1_semi
-                                      : s.rates.energy;
+        value = metric == "l2_rate"   ? s.rates.rate("L2")
+                : metric == "h1_rate" ? s.rates.rate("H1-semi")
+                                      : s.rates.rate("energy");
     } else if (!finest) {
       why = "the study has no resolutions";
     } else {

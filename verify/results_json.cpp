@@ -100,9 +100,9 @@ json rates_json(const Rates& r, int components, Measured m, const std::string& a
     return json{{"least_squares", n.number(ls, p + "/least_squares", kWhy)},
                 {"pairwise", pairwise}};
   };
-  json out = {{"l2", one("l2", r.l2, r.l2_pairwise)},
-              {"h1_seminorm", one("h1_seminorm", r.h1_semi, r.h1_semi_pairwise)}};
-  if (components > 1) out["energy"] = one("energy", r.energy, r.energy_pairwise);
+  json out = {{"l2", one("l2", r.rate("L2"), r.pairwise_of("L2"))},
+              {"h1_seminorm", one("h1_seminorm", r.rate("H1-semi"), r.pairwise_of("H1-semi"))}};
+  if (components > 1) out["energy"] = one("energy", r.rate("energy"), r.pairwise_of("energy"));
   return out;
 }
 
