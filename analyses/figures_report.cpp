@@ -55,7 +55,7 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
   }
   for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
   md += "\n";
-  md += findings_block(*problem, section.studies);
+  md += findings_block(catalogue, *problem, section.studies);
 
   std::vector<std::string> keys;
   for (const auto& s : section.studies)

@@ -545,12 +545,12 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
 namespace {
 
 /// The one-line verdict counts of the findings and the published values.
-std::string verdict_lines(const Problem& problem, const ReportSection& section,
+std::string verdict_lines(const Registries& plugins, const Problem& problem, const ReportSection& section,
                           const Params& defaults) {
   std::string md;
   const auto findings = problem.findings();
   if (!findings.empty()) {
-    const auto summaries = summarize(section.studies);
+    const auto summaries = summarize(plugins, section.studies);
     std::vector<std::string> v;
     for (const auto& f : findings) v.push_back(f.check(summaries).status);
     md += fmt::format("Findings of the papers ({}): {}.  \n", v.size(), count_text(v));
@@ -635,7 +635,7 @@ std::string write_problem_section(const Registries& catalogue, const ReportSecti
   std::string md = fmt::format("## {}\n\n{}\n\n", title,
                                catalogue.problems.entry(section.problem).description);
   md += analysis->summary(*problem, section);
-  md += verdict_lines(*problem, section, defaults);
+  md += verdict_lines(catalogue, *problem, section, defaults);
   md += fmt::format("\n**Details:** [{}]({}) — {}.\n\n", link, link,
                     analysis->page_contents(vtk));
   return md;

@@ -76,7 +76,8 @@ std::vector<PublishedRow> published_rows(const Problem& problem,
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
                             const Params& problem_defaults = {});
 /// "## The paper's findings and ours": each finding with its verdict on our studies.
-std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies);
+std::string findings_block(const Registries& plugins, const Problem& problem,
+                           const std::vector<StudyResult>& studies);
 /// The page of a transient problem (explicit dynamics): methods and engine settings,
 /// findings, errors and CPU per case, rates, convergence and time-history plots, history
 /// CSV files, published values, and ParaView time series per case.
@@ -105,7 +106,8 @@ ConvergenceJudgement judge_study(const StudyResult& study,
                                  const std::function<double(const CaseResult&)>& error);
 
 /// Summaries of studies for a problem's findings (finest case, rates on the common rule).
-std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies);
+std::vector<StudySummary> summarize(const Registries& plugins,
+                                    const std::vector<StudyResult>& studies);
 
 /// The method ranking of a section with errors: relative L2 error (the problem's main field)
 /// at the finest common resolution, the finest error where a study goes further, the fitted

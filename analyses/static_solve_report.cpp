@@ -17,7 +17,8 @@ namespace mfv {
 
 namespace fs = std::filesystem;
 
-std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
+std::vector<StudySummary> summarize(const Registries& plugins,
+                                    const std::vector<StudyResult>& studies) {
   std::vector<StudySummary> out;
   for (const auto& s : studies) {
     if (s.cases.empty()) continue;
@@ -34,6 +35,11 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
     m.l2_rel_finest = f.errors.l2_rel;
     m.energy_rel_finest = f.errors.energy_rel;
     m.problem_params = f.spec.problem_params;
+    // Resolved here from what the case was given, so that a study built by hand reads the
+    // same defaults as one the runner ran.
+    m.resolved = plugins.methods.resolve(f.spec.method, f.spec.method_params);
+    m.problem_resolved = resolved_case_params(plugins, f.spec.problem, f.spec.problem_params,
+                                              f.analysis.empty() ? f.spec.analysis : f.analysis);
     for (const auto& c : s.cases) {
       m.headlines.push_back(c.headline);
       m.h.push_back(c.h);
@@ -47,11 +53,12 @@ std::vector<StudySummary> summarize(const std::vector<StudyResult>& studies) {
   return out;
 }
 
-std::string findings_block(const Problem& problem, const std::vector<StudyResult>& studies) {
+std::string findings_block(const Registries& plugins, const Problem& problem,
+                           const std::vector<StudyResult>& studies) {
   const auto findings = problem.findings();
   if (findings.empty()) return "";
   std::string md = "## The paper's findings and ours\n\n";
-  const auto summaries = summarize(studies);
+  const auto summaries = summarize(plugins, studies);
   MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
                   {'l', 'l', 'l', 'l', 'l'});
   for (const auto& f : findings) {
@@ -78,7 +85,7 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
   md += "\n";
 
   // 1. Findings of the paper beside ours.
-  md += findings_block(*problem, section.studies);
+  md += findings_block(catalogue, *problem, section.studies);
 
   // 2. Errors, sizes, solver and times.
   md += "## Errors, sizes and CPU times\n\n\"L2\" is the relative displacement error (001 eq "

@@ -130,7 +130,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
   md += "\n";
 
-  md += findings_block(*problem, section.studies);
+  md += findings_block(catalogue, *problem, section.studies);
 
   // Errors, steps and CPU per case; the headline columns are whatever the problem measured.
   std::set<std::string> keys;

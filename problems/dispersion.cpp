@@ -82,26 +82,23 @@ std::vector<std::string> DispersionProblem::published_notes() const {
 
 namespace {
 
-/// The studies of one method whose problem parameters match `want` (missing keys take the
-/// defaults of the dispersion schema).
+/// The studies of one method whose resolved problem parameters match `want` and whose
+/// resolved method parameters match `mparams` (a key a study left unset compares at its
+/// default, the schema's, never a default written here).
 std::vector<const StudySummary*> matching(const std::vector<StudySummary>& all,
                                           const std::string& method, const std::string& want,
                                           const std::string& mparams = "") {
   const Params w = Params::parse(want), mp = Params::parse(mparams);
-  static const Params defaults = Params::parse(
-      "lattice=line,frame=lagrangian,sigma=0,stress=biaxial,mass=lumped");
+  auto contains = [](const Params& have, const Params& wanted) {
+    for (const auto& [key, value] : wanted.values())
+      if (!have.has(key) || format_value(have.values().at(key)) != format_value(value))
+        return false;
+    return true;
+  };
   std::vector<const StudySummary*> out;
   for (const auto& s : all) {
     if ((!method.empty() && s.method != method) || s.headlines.empty()) continue;
-    bool ok = true;
-    for (const auto& [key, value] : w.values()) {
-      const Params& from = s.problem_params.has(key) ? s.problem_params : defaults;
-      if (!from.has(key) || format_value(from.values().at(key)) != format_value(value)) ok = false;
-    }
-    for (const auto& [key, value] : mp.values())
-      if (!s.params.has(key) || format_value(s.params.values().at(key)) != format_value(value))
-        ok = false;
-    if (ok) out.push_back(&s);
+    if (contains(s.problem_resolved, w) && contains(s.resolved, mp)) out.push_back(&s);
   }
   return out;
 }
@@ -113,7 +110,7 @@ double head(const StudySummary& s, const std::string& key) {
 }
 
 double sigma_of(const StudySummary& s) {
-  return s.problem_params.has("sigma") ? s.problem_params.number("sigma") : 0.0;
+  return s.problem_resolved.number("sigma");
 }
 
 }  // namespace
@@ -179,8 +176,8 @@ std::vector<Finding> DispersionProblem::findings() const {
        [](const std::vector<StudySummary>& all) -> Verdict {
          std::map<std::string, std::map<double, double>> cut;
          for (const auto* s : matching(all, "kbm-si", "frame=lagrangian,lattice=line,sigma=0")) {
-           const std::string k = s->params.has("kernel") ? s->params.text("kernel") : "quartic-spline";
-           const double d = s->params.has("dmax") ? s->params.number("dmax") : 2.4;
+           const std::string k = s->resolved.text("kernel");
+           const double d = s->resolved.number("dmax");
            cut[k][d] = head(*s, kCutoff);
          }
          if (cut.empty()) return {"not run", "no Lagrangian kbm-si line study at σ̄ = 0"};
@@ -222,11 +219,11 @@ std::vector<Finding> DispersionProblem::findings() const {
          int yes = 0, no = 0;
          std::string ours;
          for (const auto* s : matching(all, "kbm-si", "frame=eulerian,sigma=2")) {
-           if (s->problem_params.has("lattice") && s->problem_params.text("lattice") == "line") continue;
+           if (s->problem_resolved.text("lattice") == "line") continue;
            const bool u = head(*s, kUnstable) > 0.5;
            (u ? yes : no) += 1;
            ours += fmt::format("{}{} {}: {}", ours.empty() ? "" : "; ", s->label,
-                               s->problem_params.has("lattice") ? s->problem_params.text("lattice") : "line",
+                               s->problem_resolved.text("lattice"),
                                u ? fmt::format("onset {:.3f} π/Δx", head(*s, kOnset)) : "stable");
          }
          if (yes + no == 0) return {"not run", "no 2D Eulerian kbm-si study at σ̄ = 2"};

@@ -36,23 +36,17 @@ constexpr const char* kPeakCapped = "run stopped early";
 constexpr double kUnstableRatio = 2.0;  ///< peak velocity / v0 above which a run is unstable
 constexpr double kStop = 100.0;         ///< peak velocity / v0 at which a run is stopped
 
-double num(const Params& p, const std::string& key, double def) {
-  return p.has(key) ? p.number(key) : def;
-}
-std::string txt(const Params& p, const std::string& key, const std::string& def) {
-  return p.has(key) ? p.text(key) : def;
-}
 
 /// The studies of `method` with D_mx = dmax, the given kernel frame and, when sigma >= 0,
-/// σ̄ = sigma (defaults: frame lagrangian, σ̄ = 0.1, D_mx = 2.4, the particle methods').
+/// σ̄ = sigma (each read resolved, with its default where the study left it unset).
 std::vector<const StudySummary*> of(const std::vector<StudySummary>& all, const std::string& method,
                                     double dmax, const std::string& frame, double sigma) {
   std::vector<const StudySummary*> out;
   for (const auto& s : all) {
     if (s.method != method || s.headlines.empty()) continue;
-    if (std::abs(num(s.params, "dmax", 2.4) - dmax) > 1e-9) continue;
-    if (txt(s.problem_params, "frame", "lagrangian") != frame) continue;
-    if (sigma >= 0 && std::abs(num(s.problem_params, "sigma", 0.1) - sigma) > 1e-9) continue;
+    if (std::abs(s.resolved.number("dmax") - dmax) > 1e-9) continue;
+    if (s.problem_resolved.text("frame") != frame) continue;
+    if (sigma >= 0 && std::abs(s.problem_resolved.number("sigma") - sigma) > 1e-9) continue;
     out.push_back(&s);
   }
   return out;
@@ -77,7 +71,7 @@ void tally(const StudySummary& s, Count& c) {
     if (u == h.end()) continue;
     (u->second > 0.5 ? c.unstable : c.stable) += 1;
     c.text += fmt::format("{}{} σ̄={}: peak v/v0 {}", c.text.empty() ? "" : "; ", s.label,
-                          num(s.problem_params, "sigma", 0.1),
+                          s.problem_resolved.number("sigma"),
                           peak_text(p == h.end() ? NAN : p->second,
                                     capped != h.end() && capped->second > 0.5));
   }
@@ -139,7 +133,7 @@ std::vector<Finding> prestressed_rod_findings() {
                  std::vector<const StudySummary*> si;
                  for (const char* frame : {"lagrangian", "eulerian"})
                    for (const auto* s : of(all, "kbm-si", 1.5, frame, -1)) {
-                     const double sigma = num(s->problem_params, "sigma", 0.1);
+                     const double sigma = s->problem_resolved.number("sigma");
                      if (sigma >= 0 && sigma <= 1) si.push_back(s);
                    }
                  return expect(si, false, "kbm-si dmax=1.5 with sigma in [0, 1]");

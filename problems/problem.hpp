@@ -54,11 +54,15 @@ struct PublishedValue {
 struct StudySummary {
   std::string method;            ///< registered name
   std::string label;             ///< "sph radius=4.5"
-  Params params;                 ///< as given (unresolved)
+  Params params;                 ///< as given (unresolved): what the user chose to set
+  Params resolved;               ///< the method's parameters resolved, with defaults
   int finest_nodes = 0, finest_particles = 0, resolutions = 0;
   double l2_rate = NAN, energy_rate = NAN;          ///< common rule
   double l2_rel_finest = NAN, energy_rel_finest = NAN;
   Params problem_params;  ///< as given
+  /// The problem's and its analysis's parameters resolved, with defaults (frame, sigma ...):
+  /// what a finding compares, so it never re-defaults a parameter by hand.
+  Params problem_resolved;
   /// Headline values of each resolution, coarsest first (transient verdicts read them).
   std::vector<std::map<std::string, double>> headlines;
   /// Per resolution, coarsest first: spacing h and relative errors on the common rule.

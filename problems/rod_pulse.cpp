@@ -234,11 +234,9 @@ class RodPulse final : public TransientProblem {
     auto error_of = [](const std::vector<StudySummary>& s, const std::string& method) {
       for (const auto& m : s) {
         if (m.method != method || m.headlines.empty()) continue;
-        if (m.problem_params.has("loading") && m.problem_params.text("loading") != "gaussian")
-          continue;
-        if (m.problem_params.has("mass") && m.problem_params.text("mass") != "volume") continue;
-        if (m.problem_params.has("frame") && m.problem_params.text("frame") != "lagrangian")
-          continue;
+        if (m.problem_resolved.text("loading") != "gaussian") continue;
+        if (m.problem_resolved.text("mass") != "volume") continue;
+        if (m.problem_resolved.text("frame") != "lagrangian") continue;
         if (!m.params.values().empty()) continue;
         const auto it = m.headlines.back().find("velocity error at L/c");
         if (it != m.headlines.back().end()) return std::pair{it->second, m.finest_particles};

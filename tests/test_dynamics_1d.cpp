@@ -111,6 +111,8 @@ TEST(PrestressedRod, FindingsReadTheVerdicts) {
     s.label = method;
     s.params = Params::parse(fmt::format("kernel=quartic-spline,dmax={}", dmax));
     s.problem_params = Params::parse(fmt::format("frame={},sigma={}", frame, sigma));
+    s.resolved = test_catalogue().methods.resolve(method, s.params);
+    s.problem_resolved = resolved_case_params(test_catalogue(), "prestressed-rod", s.problem_params);
     s.headlines.push_back(rod(method, dmax, frame, sigma).headline);
     s.resolutions = 1;
     return s;

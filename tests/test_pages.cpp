@@ -385,7 +385,7 @@ TEST(ProblemPage, StudyCollectionsStepThroughTheSpacing) {
 }
 
 TEST(Summaries, CarryPerResolutionErrorsAndTheirTrend) {
-  const auto s = summarize({laplace_study("fem-a", "fem", {21, 41, 81}, 1.0)});
+  const auto s = summarize(catalogue(), {laplace_study("fem-a", "fem", {21, 41, 81}, 1.0)});
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0].h.size(), 3u);
   EXPECT_EQ(s[0].l2_rel.size(), 3u);

@@ -524,7 +524,7 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
           e.why = fmt::format("no study of {} ran in this invocation", row.problem);
           break;
         }
-        const Verdict v = f->check(summarize(studies));
+        const Verdict v = f->check(summarize(catalogue, studies));
         e.ours_text = v.ours;
         e.verdict = v.status == "not run" ? std::string(kNotRun) : v.status;
         if (std::find(ledger_verdicts().begin(), ledger_verdicts().end(), e.verdict) ==

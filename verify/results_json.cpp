@@ -167,7 +167,7 @@ json findings_json(const Registries& catalogue, const std::vector<StudyResult>& 
       }
     const auto problem = create_problem(catalogue, name, params);
     for (const auto& f : problem->findings()) {
-      const Verdict v = f.check(summarize(mine));
+      const Verdict v = f.check(summarize(catalogue, mine));
       out.push_back({{"problem", name},
                      {"id", f.id},
                      {"source", f.source},
