@@ -10,6 +10,7 @@
 #include "stability/closed_forms.hpp"
 #include "stability/dispersion.hpp"
 #include "test_support.hpp"
+#include "analyses/report_section.hpp"
 #include "verify/runner.hpp"
 
 namespace mfv {
@@ -435,6 +436,35 @@ INSTANTIATE_TEST_SUITE_P(Dispersion, EveryMethod,
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return s;
                          });
+
+}  // namespace
+}  // namespace mfv
+
+namespace mfv {
+namespace {
+
+// A kbm-si study that leaves the kernel unset ran with kbm-si's default kernel; the finding
+// that compares kernels must file it under that one (the schema's default), not under a
+// kernel written into the finding.
+TEST(DispersionFindings, AStudyWithoutAKernelIsFiledUnderTheMethodsDefault) {
+  const Catalogue& c = test_catalogue();
+  const std::string kernel = c.methods.resolve("kbm-si", {}).text("kernel");
+  CaseSpec spec;
+  spec.problem = "dispersion";
+  spec.method = "kbm-si";
+  spec.nodes = 21;
+  StudyResult study;
+  study.label = "kbm-si";
+  study.cases.push_back(run_case(c, spec));
+  const auto problem = c.problems.create("dispersion");
+  for (const auto& f : problem->findings())
+    if (f.id == "stress-points-cutoff") {
+      const Verdict v = f.check(summarize(c, {study}));
+      EXPECT_NE(v.ours.find(kernel + " D_mx"), std::string::npos) << v.ours;
+      return;
+    }
+  FAIL() << "no finding stress-points-cutoff";
+}
 
 }  // namespace
 }  // namespace mfv
