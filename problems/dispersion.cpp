@@ -24,7 +24,7 @@ DispersionProblem::DispersionProblem(const Params& p) {
   def_.sigma = p.number("sigma");
   def_.biaxial = p.text("stress") == "biaxial";
   def_.nu = p.number("nu");
-  def_.angles = parse_angles_degrees(p.text("angles"));
+  def_.angles = p.numbers("angles");
   def_.consistent_mass = p.text("mass") == "consistent";
   def_.map = p.text("map") == "sigma-kappa";
   def_.map_limit = p.number("map_limit");
@@ -241,7 +241,7 @@ void register_dispersion(ProblemRegistry& r) {
       ParamSpec::choice("stress", "biaxial", {"biaxial", "uniaxial"},
                         "2D prestress: sigma in xx and yy, or xx only"),
       ParamSpec::number("nu", 0.25, "2D: Poisson's ratio of the plane-strain material (lambda = mu at 0.25)"),
-      ParamSpec::choice("angles", "0", {}, "wave directions theta in degrees, colon-separated (2D), e.g. 0:30:45:90"),
+      ParamSpec::numbers("angles", {0.0}, "wave directions theta in degrees (2D), e.g. 0:30:45:90"),
       ParamSpec::choice("mass", "lumped", {"lumped", "consistent"},
                         "lumped rho V (000) or the consistent mass (Galerkin methods)"),
       ParamSpec::choice("map", "none", {"none", "sigma-kappa"},

@@ -29,7 +29,7 @@ StretchMapProblem::StretchMapProblem(const Params& p) {
   def_.grid = p.integer("grid");
   def_.lagrangian = p.text("frames") != "eulerian";
   def_.eulerian = p.text("frames") != "lagrangian";
-  def_.angles = parse_angles_degrees(p.text("angles"));
+  def_.angles = p.numbers("angles");
   def_.points = p.integer("points");
   def_.density = p.number("density");
   def_.material_params = Params::parse(fmt::format("c1={},c2={},lambda={}", p.number("c1"),
@@ -140,8 +140,7 @@ void register_stretch_map(ProblemRegistry& r) {
       ParamSpec::number("lambda_min", 0.5, "smallest principal stretch of the grid (> 0)"),
       ParamSpec::number("lambda_max", 2.5, "largest principal stretch of the grid"),
       capped(ParamSpec::count("grid", 9, 2, "stretches per axis (grid × grid states; at most 201)"), 201),
-      ParamSpec::choice("angles", "0:30:45:60:90", {},
-                        "wave directions theta in degrees, colon-separated"),
+      ParamSpec::numbers("angles", {0, 30, 45, 60, 90}, "wave directions theta in degrees"),
       capped(ParamSpec::count("points", 41, 3, "wave numbers per direction, 0 to the zone boundary (at most 100000)"), 100000),
       ParamSpec::positive("density", 125.4, "kg/m^3 (001 §3.1)"),
       ParamSpec::positive("c1", 1.265e5, "rubber c1, N/m^2 (001 eq 18)"),

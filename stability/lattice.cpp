@@ -80,26 +80,6 @@ LatticePatch lattice_patch(LatticeKind kind, double dx, int half_width) {
   return p;
 }
 
-std::vector<double> parse_angles_degrees(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ':')) {
-    try {
-      std::size_t used = 0;
-      const double a = std::stod(item, &used);
-      if (used != item.size() || !std::isfinite(a)) throw std::invalid_argument(item);
-      out.push_back(a);
-    } catch (const std::exception&) {
-      throw InputError(fmt::format("angles='{}': '{}' is not a number; give degrees separated "
-                                   "by colons, e.g. angles=0:30:45",
-                                   text, item));
-    }
-  }
-  if (out.empty()) throw InputError("angles is empty; give degrees separated by colons, e.g. 0:45");
-  return out;
-}
-
 double brillouin_boundary(LatticeKind kind, double dx, double theta) {
   const double pi = std::numbers::pi;
   const double c = std::abs(std::cos(theta)), s = std::abs(std::sin(theta));

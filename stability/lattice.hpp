@@ -33,10 +33,6 @@ struct LatticePatch {
 /// Volumes are the patch's Voronoi cells (the interior ones equal cell_volume).
 LatticePatch lattice_patch(LatticeKind kind, double dx, int half_width);
 
-/// Wave directions in degrees from "0:30:45" (colons, since commas separate parameters);
-/// throws InputError naming the bad item.
-std::vector<double> parse_angles_degrees(const std::string& text);
-
 /// Distance from the origin to the boundary of the first Brillouin zone in direction θ (rad):
 /// the largest wave number of a Bloch wave e^{iκ n·X} that the lattice can tell apart.
 /// Line: π/Δx; rectangular: min(π/(Δx|cos θ|), π/(Δx|sin θ|)); hexagonal: the hexagon of

@@ -31,6 +31,8 @@ json params_json(const Params& p) {
     if (const double* d = std::get_if<double>(&v)) {
       if (std::isfinite(*d)) out[k] = *d;
       else out[k] = format_value(v);  // a parameter is input: keep what was given, as text
+    } else if (std::holds_alternative<std::vector<double>>(v)) {
+      out[k] = format_value(v);  // "0:30:45", as a case gives it
     } else {
       out[k] = std::get<std::string>(v);
     }
