@@ -223,6 +223,10 @@ void command_list(const Catalogue& c, std::ostream& out) {
   list_registry(c.integrations, out);
   list_registry(c.methods, out);
   list_registry(c.problems, out);
+  list_registry(c.analyses, out);
+  out << "\nanalyses each problem declares (the first is its default):\n";
+  for (const auto& name : c.problems.keys())
+    out << fmt::format("  {:<22} {}\n", name, fmt::join(c.problems.create(name)->analyses(), ", "));
 }
 
 int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
@@ -298,6 +302,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   spec.problem_params = Params::parse(o.problem_params);
   spec.nodes = o.nodes;
   spec.perturbation = o.perturbation;
+  spec.analysis = o.analysis;
   CaseResult r;
   try {
     r = run_case(c, spec);
@@ -350,6 +355,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
   base.problem = o.problem;
   base.problem_params = Params::parse(o.problem_params);
   base.perturbation = o.perturbation;
+  base.analysis = o.analysis;
   const auto problem = create_problem(c, base.problem, base.problem_params);
   if (o.full && !o.nodes.empty())
     throw InputError("--full and --nodes both choose the resolutions; give one of them");

@@ -18,6 +18,7 @@ struct RunOptions {
   int nodes = 0;
   double perturbation = 0;
   std::string vtk;  ///< optional .vtp path
+  std::string analysis;  ///< empty: the problem's default analysis
 };
 /// `mfv run`: one case; prints errors, headline quantity and CPU times. Returns the exit
 /// code: 1 when a transient run went unstable (its verdict is printed), 0 otherwise.
@@ -25,6 +26,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out);
 
 struct CompareOptions {
   std::string problem, problem_params;
+  std::string analysis;  ///< empty: the problem's default analysis
   /// Each "name" or "name:key=value,...", e.g. "rkpm:kernel=gaussian,j=1".
   std::vector<std::string> methods;
   std::vector<int> nodes;  ///< empty: the problem's standard (or, with full, full) resolutions

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx")
       ->check(finite_in(0, 0.5, true, "--perturb"));
   cmd_run->add_option("--vtk", run.vtk, "also write the particles and fields to this .vtp file");
+  cmd_run->add_option("--analysis", run.analysis,
+                      "the analysis to run (default: the problem's first; see mfv list)");
 
   // `study` is `compare` with one method; both share the options.
   mfv::CompareOptions cmp;
@@ -65,6 +67,8 @@ int main(int argc, char** argv) {
   auto add_study_options = [&](CLI::App* c) {
     c->add_option("problem", cmp.problem, "problem name (see mfv list)")->required();
     c->add_option("--problem-params", cmp.problem_params, "problem parameters key=value,...");
+    c->add_option("--analysis", cmp.analysis,
+                  "the analysis to run (default: the problem's first; see mfv list)");
     auto* nodes = c->add_option("--nodes,-n", cmp.nodes,
                                 "resolutions, repeatable or comma-separated; run coarse to fine "
                                 "in sorted order, each at most once (default: the problem's "
@@ -103,6 +107,8 @@ int main(int argc, char** argv) {
   cmd_analyse->add_option("--method,-m", ana.method, "method name")->required();
   cmd_analyse->add_option("--params,-p", ana.method_params, "method parameters key=value,...");
   cmd_analyse->add_option("--problem-params", ana.problem_params, "problem parameters key=value,...");
+  cmd_analyse->add_option("--analysis", ana.analysis,
+                          "the analysis to run (default: the problem's first; see mfv list)");
   cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)")
       ->check(CLI::Range(1, std::numeric_limits<int>::max()));
   auto* ana_report = cmd_analyse->add_option("--report,-r", ana.report,
