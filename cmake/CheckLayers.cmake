@@ -1,9 +1,13 @@
-# mfv_check_layers(<layer> ...): each argument is one layer, lowest first, given as a
-# |-separated list of folders. A source or header in a folder may include headers of its own
+# The layers of mfv, lowest first; folders of one layer separated by '|'.
+set(MFV_LAYERS "methods/core" "methods|reports" "dynamics|stability" "problems" "analyses"
+               "verify" "apps")
+
+# mfv_check_layers(<root> <layer> ...): each argument after the root is one layer, lowest
+# first, given as a |-separated list of folders. A source or header in a folder may include headers of its own
 # layer and of the layers below; an #include "<folder>/..." of a higher layer stops the
-# configure step with the file, the line and the rule. Run at every configure (the build
-# re-configures when a CMakeLists changes; the `layers` test re-checks on every ctest run).
-function(mfv_check_layers)
+# configure step with the file and the rule. Run at every configure; the ctest `layers`
+# re-checks the tree on every test run (script mode: cmake -DROOT=<tree> -P CheckLayers.cmake).
+function(mfv_check_layers root)
   set(rank 0)
   set(all_folders)
   foreach(layer IN LISTS ARGN)
@@ -18,10 +22,15 @@ function(mfv_check_layers)
   list(SORT all_folders COMPARE STRING ORDER DESCENDING)
   set(violations)
   foreach(folder IN LISTS all_folders)
-    file(GLOB_RECURSE sources CONFIGURE_DEPENDS
-         "${PROJECT_SOURCE_DIR}/${folder}/*.hpp" "${PROJECT_SOURCE_DIR}/${folder}/*.cpp")
+    # Re-globbed at every build (CONFIGURE_DEPENDS), so a new file is checked too; script mode
+    # (the ctest) globs once.
+    set(depends CONFIGURE_DEPENDS)
+    if(CMAKE_SCRIPT_MODE_FILE)
+      set(depends "")
+    endif()
+    file(GLOB_RECURSE sources ${depends} "${root}/${folder}/*.hpp" "${root}/${folder}/*.cpp")
     foreach(source IN LISTS sources)
-      file(RELATIVE_PATH rel "${PROJECT_SOURCE_DIR}" "${source}")
+      file(RELATIVE_PATH rel "${root}" "${source}")
       # The folder that owns this file: the longest matching prefix.
       set(owner "")
       foreach(f IN LISTS all_folders)
@@ -61,3 +70,9 @@ function(mfv_check_layers)
                         "belongs to:\n  ${text}")
   endif()
 endfunction()
+
+# Script mode: check the tree at ROOT.
+if(CMAKE_SCRIPT_MODE_FILE AND DEFINED ROOT)
+  mfv_check_layers("${ROOT}" ${MFV_LAYERS})
+  message(STATUS "mfv layering: no file includes a header of a higher layer")
+endif()
