@@ -11,21 +11,6 @@
 
 namespace mfv {
 
-namespace {
-
-/// RFC 4180 quoting, only where needed, so plain names stay plain for awk and gnuplot.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"') out += '"';
-    out += ch;
-  }
-  return out + '"';
-}
-
-}  // namespace
-
 ConvergenceTable::ConvergenceTable(std::string abscissa)
     : abscissa_(std::move(abscissa)), rate_format_([](double v) { return fmt_rate(v); }) {}
 

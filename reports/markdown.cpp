@@ -150,4 +150,14 @@ std::string fmt_seconds(double s) {
   return fmt::format("{} h {:02} min", minutes / 60, minutes % 60);
 }
 
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"') out += '"';
+    out += ch;
+  }
+  return out + '"';
+}
+
 }  // namespace mfv

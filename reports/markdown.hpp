@@ -49,4 +49,8 @@ std::string fmt_seconds(double s);
 /// "%Y-%m-%dT%H:%M:%SZ" (ISO 8601) for files machines read.
 std::string utc_now(const char* strftime_format);
 
+/// A CSV field with RFC 4180 quoting, only where needed, so plain names stay plain for awk
+/// and gnuplot.
+std::string csv_field(const std::string& s);
+
 }  // namespace mfv

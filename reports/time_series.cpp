@@ -22,6 +22,7 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include "reports/atomic.hpp"
+#include "reports/markdown.hpp"
 #include "reports/vtk.hpp"
 
 namespace mfv {
@@ -206,21 +207,6 @@ const std::vector<double> TimeHistory::column(const std::string& name) const {
   for (const auto& row : rows) out.push_back(c < row.size() ? row[c] : std::nan(""));
   return out;
 }
-
-namespace {
-
-/// RFC 4180 quoting, only where needed, so plain names stay plain for awk and gnuplot.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"') out += '"';
-    out += ch;
-  }
-  return out + '"';
-}
-
-}  // namespace
 
 void write_history_csv(const fs::path& path, const TimeHistory& h) {
   if (h.columns.empty())
