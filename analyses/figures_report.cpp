@@ -1,4 +1,4 @@
-/// The report section of analysis problems (dispersion, critical time steps, enriched bars,
+/// The report page of the figure analyses (dispersion, critical time steps, crack sweeps,
 /// stable-domain maps): what each case analysed, the findings, every verdict and headline
 /// value side by side, the problem's figures as SVG plots and its tables as CSV files.
 #include <cmath>

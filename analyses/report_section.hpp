@@ -85,7 +85,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                                     const std::string& title, const std::filesystem::path& dir,
                                     bool vtk);
 
-/// The page of an analysis problem (dispersion, time steps, enriched bars, stable-domain
+/// The page of a figure analysis (dispersion, time steps, crack sweeps, stable-domain
 /// maps): cases, findings, verdicts and headline values, figures as SVG, tables as CSV.
 std::string write_analysis_section(const Registries& catalogue, const ReportSection& section,
                                    const std::string& title, const std::filesystem::path& dir);

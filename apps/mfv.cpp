@@ -100,9 +100,10 @@ int main(int argc, char** argv) {
 
   mfv::AnalyseOptions ana;
   auto* cmd_analyse = app.add_subcommand(
-      "analyse", "one stability or time-step analysis of any method: verdict, plots, CSV");
+      "analyse", "one case of a problem's analysis (e.g. dispersion, time-step, stretch-map, "
+                 "crack-sweep) with any method: verdict, measured values, plots, CSV");
   cmd_analyse->add_option("problem", ana.problem,
-                          "analysis problem: dispersion, time-step, enriched-bar, stretch-map")
+                          "problem name, e.g. dispersion, time-step, enriched-bar, stretch-map")
       ->required();
   cmd_analyse->add_option("--method,-m", ana.method, "method name")->required();
   cmd_analyse->add_option("--params,-p", ana.method_params, "method parameters key=value,...");

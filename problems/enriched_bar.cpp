@@ -1,17 +1,6 @@
-/// `enriched-bar`: stability of the explicit extended EFG (003, Samaniego et al., "Contributions
-/// to the stability analysis of explicit enriched meshfree methods"). An analysis problem:
-///
-/// 1. Sweep: a crack moved from one node to the next (relative position s ∈ [0, 1]) through a
-///    1D bar of 10 particles 1 m apart (E = 200 GPa, ρ = 7850, DMAX = 2.3, cubic spline,
-///    linear basis, 003 §4) or a 2D patch (a crack through it, or from the bottom edge to a
-///    tip at relative y = 0.9 inside the middle row of cells, 003 §4.3.1); for each DMAX and
-///    mass scheme (consistent eq 13, MLS1 eqs 14-16, MLS2 eqs 19-22) the ratio
-///    Δt_crack / Δt_no-crack, Δt = 2/√λ_max (eq 12).
-/// 2. Fit (003 §4.3.3, eqs 23-30): λ_max of the integration cell's K_cell φ = λ M_cell φ
-///    (eq 29: λ = E/(ρΔx²) λ(M_dmax, K_dmax)) for an interior cell of a long uniform bar,
-///    row-sum and MLS1 lumping, fitted to λ = α E/(ρ Δx² DMAX²) (eq 30) by least squares in
-///    1/DMAX²; with the trimming heuristic only the shape functions whose middle half of the
-///    support [0.25 s, 0.75 s] covers the cell count (even DMAX).
+/// `enriched-bar` problem: the bar or patch of 003 (Samaniego et al.) a crack is swept
+/// through, its parameters, published values, findings and notes; the `crack-sweep` analysis
+/// (analyses/crack_sweep.cpp) runs it.
 #include "problems/enriched_bar.hpp"
 
 #include <algorithm>
