@@ -46,22 +46,19 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
                                    const std::string& title, const fs::path& dir) {
   const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
-                               catalogue.problems.entry(section.problem).description);
-  md += "**Cases.**\n\n";
-  for (const auto& s : section.studies) {
+  PageParts page;
+  page.methods = methods_list(section, [](const StudyResult& s) {
     const CaseResult& r = s.cases.back();
-    md += fmt::format("- `{}`: {}; {}\n", case_label(s), r.method_description, r.data<FigureData>().setup);
-  }
-  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
-  md += "\n";
-  md += findings_block(catalogue, *problem, section.studies);
+    return fmt::format("`{}`: {}; {}", case_label(s), r.method_description,
+                       r.data<FigureData>().setup);
+  });
+  page.findings = findings_block(catalogue, *problem, section.studies);
 
   std::vector<std::string> keys;
   for (const auto& s : section.studies)
     for (const auto& [k, v] : s.cases.back().headline)
       if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
-  md += "## Verdicts and measured values\n\nOne row per case; CPU seconds of the analysis "
+  page.verdicts = "One row per case; CPU seconds of the analysis "
         "(set-up of the operator, then the scans).\n\n";
   std::vector<std::string> header{"case", "verdict"};
   std::vector<char> align{'l', 'l'};
@@ -82,25 +79,24 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
     row.push_back(fmt::format("{:.3f}", r.cpu.total()));
     t.add_row(row);
   }
-  md += t.str() + "\n";
+  page.verdicts += t.str() + "\n";
 
   // Figures and data of every case.
-  md += "## Figures and data\n\n";
   fs::create_directories(dir / "plots");
   fs::create_directories(dir / "data");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
     if (r.data<FigureData>().figures.empty() && r.data<FigureData>().tables.empty()) continue;
     const std::string stem = base + "-" + slug(case_label(s));
-    md += fmt::format("**`{}`**", case_label(s));
+    page.plots += fmt::format("**`{}`**", case_label(s));
     std::vector<std::string> links;
     for (const auto& table : r.data<FigureData>().tables) {
       const std::string name = fmt::format("data/{}-{}.csv", stem, table.name);
       write_file_atomic(dir / name, csv_text(table));
       links.push_back(fmt::format("[{}.csv]({}{})", table.name, kPageUp, name));
     }
-    if (!links.empty()) md += fmt::format(" (data: {})", fmt::join(links, ", "));
-    md += "\n\n";
+    if (!links.empty()) page.plots += fmt::format(" (data: {})", fmt::join(links, ", "));
+    page.plots += "\n\n";
     for (const auto& fig : r.data<FigureData>().figures) {
       PlotSpec spec;
       spec.title = fmt::format("{}: {}", case_label(s), fig.title);
@@ -112,14 +108,15 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
         if (c.figure == fig.id) spec.series.push_back(Series{c.label, c.x, c.y});
       const std::string name = fmt::format("plots/{}-{}.svg", stem, fig.id);
       if (const auto why = write_svg_plot(dir / name, spec))
-        md += fmt::format("_{} plot not drawn: {}._\n\n", fig.id, *why);
+        page.plots += fmt::format("_{} plot not drawn: {}._\n\n", fig.id, *why);
       else
-        md += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
+        page.plots += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
     }
   }
-  md += published_block(*problem, section.studies,
-                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
-  return md;
+  page.published = published_block(
+      *problem, section.studies,
+      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 
 std::string FigureAnalysis::page(const Registries& plugins, const ReportSection& section,

@@ -238,8 +238,7 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
                             const Params& problem_defaults) {
   const auto rows = published_rows(problem, studies, problem_defaults);
-  if (rows.empty()) return "";
-  std::string md = "## Published values beside ours\n\n";
+  std::string md;
   MarkdownTable t({"source", "quantity", "method", "n", "paper", "ours", "ours/paper",
                    "tolerance", "verdict", "our study", "notes"},
                   {'l', 'l', 'l', 'r', 'r', 'r', 'r', 'r', 'l', 'l', 'l'});
@@ -307,39 +306,70 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
 }
 
 
-/// The page of a 1D static problem: methods, errors and CPU per resolution, rates with
-/// their trend, plots, published values, VTK.
+std::string problem_page(const std::string& title, const std::string& description,
+                         const PageParts& parts) {
+  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title, description);
+  if (!parts.lead.empty()) md += parts.lead + "\n\n";
+  if (!parts.methods.empty()) md += "**Methods.**\n\n" + parts.methods + "\n";
+  const std::pair<const char*, const std::string*> sections[] = {
+      {"The paper's findings and ours", &parts.findings},
+      {"Errors and CPU times", &parts.errors},
+      {"Verdicts and measured values", &parts.verdicts},
+      {"Convergence rates", &parts.rates},
+      {"Plots", &parts.plots},
+      {"Published values beside ours", &parts.published},
+      {"VTK files", &parts.vtk}};
+  for (const auto& [heading, body] : sections)
+    if (!body->empty()) md += fmt::format("## {}\n\n{}", heading, *body);
+  return md;
+}
+
+std::string methods_list(const ReportSection& section,
+                         const std::function<std::string(const StudyResult&)>& item) {
+  std::string md;
+  for (const auto& s : section.studies)
+    if (!s.cases.empty()) md += fmt::format("- {}\n", item(s));
+  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
+  return md;
+}
+
+std::string page_lead(const Problem& problem) {
+  std::vector<std::string> exact;
+  for (const auto& [k, v] : problem.headline_exact()) exact.push_back(fmt::format("{} = {:.6g}", k, v));
+  const std::string counts = fmt::format("Resolutions count {}.", problem.resolution_name());
+  return exact.empty() ? counts : fmt::format("Exact: {}. {}", fmt::join(exact, ", "), counts);
+}
+
+std::string plot_image(const std::filesystem::path& dir, const std::string& name,
+                       const PlotSpec& spec, const std::string& alt, const std::string& what) {
+  std::filesystem::create_directories((dir / name).parent_path());
+  if (const auto why = write_svg_plot(dir / name, spec))
+    return fmt::format("_{} plot skipped: {}_\n\n", what, *why);
+  return fmt::format("![{}]({}{})\n\n", alt, kPageUp, name);
+}
+
+/// The page of a 1D static problem: methods, findings, errors and CPU per resolution, rates
+/// with their trend, plots, published values, VTK.
 std::string write_scalar_page(const Registries& catalogue, const ReportSection& section,
                               const std::string& title, const std::filesystem::path& dir,
                               bool vtk) {
-  namespace fs = std::filesystem;
   const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
-                               catalogue.problems.entry(section.problem).description);
+  PageParts page;
+  page.lead = page_lead(*problem);
+  page.methods = methods_list(section, [](const StudyResult& s) {
+    return fmt::format("`{}`: {}", s.label, s.cases.front().method_description);
+  });
+  page.findings = findings_block(catalogue, *problem, section.studies);
 
-  const auto exact_headline = problem->headline_exact();
+  // Errors and times per resolution; the headline columns are whatever the cases measured.
   std::vector<std::string> headline_names;
   for (const auto& s : section.studies)
     for (const auto& r : s.cases)
       for (const auto& [k, v] : r.headline)
         if (std::find(headline_names.begin(), headline_names.end(), k) == headline_names.end())
           headline_names.push_back(k);
-  if (!exact_headline.empty()) {
-    std::vector<std::string> parts;
-    for (const auto& [k, v] : exact_headline) parts.push_back(fmt::format("{} = {:.6g}", k, v));
-    md += fmt::format("Exact: {}.\n\n", fmt::join(parts, ", "));
-  }
-
-  // 1. Methods: what each study label stands for.
-  md += "**Methods.**\n\n";
-  for (const auto& s : section.studies)
-    md += fmt::format("- `{}`: {}\n", s.label, s.cases.front().method_description);
-  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
-  md += "\n";
-
-  // 2. Errors and times per resolution.
-  md += "## Errors and CPU times\n\nErrors on the common rule (uniform cells, 6 Gauss points "
+  page.errors = "Errors on the common rule (uniform cells, 6 Gauss points "
         "each, at least 1200 cells; the same for every method); \"H1\" is the seminorm ‖e′‖, "
         "\"rel\" divides by the exact solution's norm; \"cond\" is the 2-norm condition number of "
         "the solved system (above ~1e12 the errors carry round-off). CPU seconds per phase.\n\n";
@@ -366,11 +396,10 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
         t.add_row(row);
       }
     }
-    md += t.str() + "\n";
+    page.errors += t.str() + "\n";
   }
 
-  // 3. Rates.
-  md += "## Convergence rates\n\nLeast-squares slope of ln e against ln h over all "
+  page.rates = "Least-squares slope of ln e against ln h over all "
         "resolutions (004 II eq 7.3), and the slope between successive resolutions; the paper "
         "rule integrates with 12 Gauss points between neighbouring particles. The L2 trend "
         "judges the pairwise rates and the finest error (reports/convergence.hpp): converges "
@@ -385,13 +414,11 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
                  fmt_rate(s.rates.rate("H1-semi")), fmt_rates(s.rates.pairwise_of("H1-semi")),
                  fmt_rate(s.rates_paper.rate("L2")), fmt_rate(s.rates_paper.rate("H1-semi")),
                  judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label()});
-    md += t.str() + "\n";
+    page.rates += t.str() + "\n";
   }
 
-  // 4. Plots: relative errors (dimensionless), so every axis has its unit.
-  fs::create_directories(dir / "plots");
+  // Relative errors (dimensionless), so every axis has its unit.
   for (bool h1 : {false, true}) {
-    const std::string name = fmt::format("plots/{}-{}.svg", base, h1 ? "h1" : "l2");
     const PlotSpec spec =
         h1 ? convergence_plot(title + ": H1 seminorm error", section.studies,
                               "relative H1 seminorm error |u_h - u|_1 / |u|_1 (dimensionless)",
@@ -401,26 +428,23 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
                               "relative L2 error ||u_h - u|| / ||u|| (dimensionless)",
                               [](const CaseResult& c) { return c.errors.l2_rel; },
                               [](const Rates& r) { return r.rate("L2"); });
-    if (const auto why = write_svg_plot(dir / name, spec))
-      md += fmt::format("_{} plot skipped: {}_\n\n", h1 ? "H1" : "L2", *why);
-    else
-      md += fmt::format("![{} error against h]({}{})\n\n", h1 ? "H1 seminorm" : "L2", kPageUp,
-                        name);
+    page.plots += plot_image(dir, fmt::format("plots/{}-{}.svg", base, h1 ? "h1" : "l2"), spec,
+                             fmt::format("{} error against h", h1 ? "H1 seminorm" : "L2"),
+                             h1 ? "H1" : "L2");
   }
 
-  // 5. Published values beside ours.
-  md += published_block(*problem, section.studies,
-                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published = published_block(
+      *problem, section.studies,
+      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
-  // 6. VTK files: one ParaView collection per study, stepping through the resolutions.
-  if (vtk) {
-    md += "## VTK files\n\nParticles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
-          "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
-          "through the resolutions: its time axis is the particle spacing h.\n\n";
-    md += write_vtk_collections(dir, base, section.studies,
-                                {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
-  }
-  return md;
+  // One ParaView collection per study, stepping through the resolutions.
+  if (vtk)
+    page.vtk = "Particles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
+               "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
+               "through the resolutions: its time axis is the particle spacing h.\n\n" +
+               write_vtk_collections(dir, base, section.studies,
+                                     {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
+  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 
 

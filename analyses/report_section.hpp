@@ -11,7 +11,6 @@
 #include "analyses/analysis.hpp"
 #include "analyses/case.hpp"
 #include "reports/plot.hpp"
-#include "analyses/analysis.hpp"
 #include "reports/convergence.hpp"
 
 namespace mfv {
@@ -68,16 +67,48 @@ std::vector<PublishedRow> published_rows(const Problem& problem,
                                          const std::vector<StudyResult>& studies,
                                          const Params& problem_defaults = {});
 
-/// "## Published values beside ours": one row per published value measured here with ours,
-/// the paper's, the ratio ours/paper, the verdict of compare_value under the value's
-/// tolerance and numbered notes right under the table (the value's note, other studies that
-/// measured it); then the values not run in this suite, grouped, and the problem's
-/// published_notes. Empty without published values.
+/// The body of a page's published-values part: one row per published value measured here
+/// with ours, the paper's, the ratio ours/paper, the verdict of compare_value under the
+/// value's tolerance and numbered notes right under the table (the value's note, other
+/// studies that measured it); then the values not run in this suite, grouped, and the
+/// problem's published_notes. Empty without published values and notes.
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
                             const Params& problem_defaults = {});
-/// "## The paper's findings and ours": each finding with its verdict on our studies.
+/// The body of a page's findings part: each finding of the papers with its verdict on our
+/// studies. Empty when the problem has no findings.
 std::string findings_block(const Registries& plugins, const Problem& problem,
                            const std::vector<StudyResult>& studies);
+
+/// The parts of a problem's page, each a Markdown body without its heading; an empty part is
+/// left out with its heading. problem_page writes them in this order under the same headings
+/// on every page, so that each analysis fills the parts it has and no page invents its own
+/// layout.
+struct PageParts {
+  std::string lead;       ///< under the description: exact values, what a resolution counts
+  std::string methods;    ///< "**Methods.**": one list item per study (methods_list)
+  std::string findings;   ///< "## The paper's findings and ours" (findings_block)
+  std::string errors;     ///< "## Errors and CPU times": per case
+  std::string verdicts;   ///< "## Verdicts and measured values": per case, for analyses without errors
+  std::string rates;      ///< "## Convergence rates": per study
+  std::string plots;      ///< "## Plots": convergence plots, time histories, figures, data files
+  std::string published;  ///< "## Published values beside ours" (published_block)
+  std::string vtk;        ///< "## VTK files": links to the ParaView files
+};
+/// The page: "# title", the link back to the report, the description, then the parts.
+std::string problem_page(const std::string& title, const std::string& description,
+                         const PageParts& parts);
+/// The methods part: "- `<label>`: <what>" per study (`item` gives label and text, already
+/// joined), then one "**could not run:**" item per failure of the section.
+std::string methods_list(const ReportSection& section,
+                         const std::function<std::string(const StudyResult&)>& item);
+/// The lead of a page with resolutions: the problem's exact headline values, if any, and what
+/// a resolution counts ("Exact: tip deflection = 0.00889. Resolutions count nodes.").
+std::string page_lead(const Problem& problem);
+/// Writes `spec` as the SVG `name` (under `dir`, "plots/…") and returns its Markdown image
+/// "![alt](../plots/…)", or "_<what> plot skipped: <why>_" when it could not be drawn.
+std::string plot_image(const std::filesystem::path& dir, const std::string& name,
+                       const PlotSpec& spec, const std::string& alt, const std::string& what);
+
 /// The page of a transient problem (explicit dynamics): methods and engine settings,
 /// findings, errors and CPU per case, rates, convergence and time-history plots, history
 /// CSV files, published values, and ParaView time series per case.

@@ -57,7 +57,6 @@ std::string findings_block(const Registries& plugins, const Problem& problem,
                            const std::vector<StudyResult>& studies) {
   const auto findings = problem.findings();
   if (findings.empty()) return "";
-  std::string md = "## The paper's findings and ours\n\n";
   const auto summaries = summarize(plugins, studies);
   MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
                   {'l', 'l', 'l', 'l', 'l'});
@@ -65,30 +64,22 @@ std::string findings_block(const Registries& plugins, const Problem& problem,
     const Verdict v = f.check(summaries);
     t.add_row({f.source, f.claim, f.criterion, "**" + v.status + "**", v.ours});
   }
-  return md + t.str() + "\n";
+  return t.str() + "\n";
 }
 
 std::string write_elasticity_section(const Registries& catalogue, const ReportSection& section,
                                      const std::string& title, const fs::path& dir, bool vtk) {
   const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title,
-                               catalogue.problems.entry(section.problem).description);
-  for (const auto& [k, v] : problem->headline_exact())
-    md += fmt::format("Exact {} = {:.6g}. ", k, v);
-  md += fmt::format("Resolutions count {}.\n\n", problem->resolution_name());
+  PageParts page;
+  page.lead = page_lead(*problem);
+  page.methods = methods_list(section, [](const StudyResult& s) {
+    return fmt::format("`{}`: {}", s.label, s.cases.front().method_description);
+  });
+  page.findings = findings_block(catalogue, *problem, section.studies);
 
-  md += "**Methods.**\n\n";
-  for (const auto& s : section.studies)
-    md += fmt::format("- `{}`: {}\n", s.label, s.cases.front().method_description);
-  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
-  md += "\n";
-
-  // 1. Findings of the paper beside ours.
-  md += findings_block(catalogue, *problem, section.studies);
-
-  // 2. Errors, sizes, solver and times.
-  md += "## Errors, sizes and CPU times\n\n\"L2\" is the relative displacement error (001 eq "
+  // Errors, sizes, solver and times.
+  page.errors = "\"L2\" is the relative displacement error (001 eq "
         "71), \"energy\" the relative energy error (eq 73, with a square root, see below); "
         "\"common\" on 4×4 Gauss over a uniform grid with the trial field, \"own\" on the "
         "method's own quadrature with its own values and gradients. \"rcond\" is UMFPACK's "
@@ -126,17 +117,16 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
         row.push_back(fmt::format("{:.3f}", r.cpu.solve));
         t.add_row(row);
       }
-    md += t.str() + "\n";
+    page.errors += t.str() + "\n";
     std::vector<std::string> solvers;
     for (const auto& s : section.studies)
       for (const auto& r : s.cases)
         if (std::find(solvers.begin(), solvers.end(), r.data<StaticSolveData>().solve.solver) == solvers.end())
           solvers.push_back(r.data<StaticSolveData>().solve.solver);
-    md += fmt::format("Solvers used: {}.\n\n", fmt::join(solvers, "; "));
+    page.errors += fmt::format("Solvers used: {}.\n\n", fmt::join(solvers, "; "));
   }
 
-  // 3. Rates.
-  md += "## Convergence rates\n\nLeast-squares slope of ln(error) against ln(h), and the slopes "
+  page.rates = "Least-squares slope of ln(error) against ln(h), and the slopes "
         "between successive resolutions. The trends judge the pairwise rates and the finest "
         "error (reports/convergence.hpp): converges only if the finest error is the smallest and "
         "the last pairwise and the fitted rate are at least 0.5.\n\n";
@@ -150,13 +140,10 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
                  fmt_rate(s.rates_paper.rate("L2")), fmt_rate(s.rates_paper.rate("energy")),
                  judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; }).label(),
                  judge_study(s, [](const CaseResult& c) { return c.errors.energy_rel; }).label()});
-    md += t.str() + "\n";
+    page.rates += t.str() + "\n";
   }
 
-  // 4. Plots.
-  fs::create_directories(dir / "plots");
   for (bool energy : {false, true}) {
-    const std::string name = fmt::format("plots/{}-{}.svg", base, energy ? "energy" : "l2");
     const auto spec =
         energy ? convergence_plot(
                      title + ": energy error", section.studies, "relative energy error",
@@ -166,27 +153,26 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
                      title + ": L2 error", section.studies, "relative L2 displacement error",
                      [](const CaseResult& c) { return c.errors.l2_rel; },
                      [](const Rates& r) { return r.rate("L2"); });
-    if (const auto why = write_svg_plot(dir / name, spec))
-      md += fmt::format("_{} plot skipped: {}_\n\n", energy ? "energy" : "L2", *why);
-    else
-      md += fmt::format("![{} error against h]({}{})\n\n", energy ? "energy" : "L2", kPageUp,
-                        name);
+    page.plots +=
+        plot_image(dir, fmt::format("plots/{}-{}.svg", base, energy ? "energy" : "l2"), spec,
+                   fmt::format("{} error against h", energy ? "energy" : "L2"),
+                   energy ? "energy" : "L2");
   }
 
-  const auto notes = problem->published_notes();
-  for (const auto& n : notes) md += n + "\n\n";
+  page.published = published_block(
+      *problem, section.studies,
+      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
-  // 5. VTK: particles and quadrature points per resolution, one collection per study.
-  if (vtk) {
-    md += "## VTK files\n\nParticles (displacement, exact, error; stress, exact, error; "
-          "volume) and the method's quadrature points (stress, exact, error; stress points "
-          "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
-          "through the resolutions: its time axis is the particle spacing h.\n\n";
-    md += write_vtk_collections(dir, base, section.studies,
-                                {{".vtp", write_particles_vtp},
-                                 {"-quadrature.vtp", write_quadrature_vtp}});
-  }
-  return md;
+  // Particles and quadrature points per resolution, one collection per study.
+  if (vtk)
+    page.vtk = "Particles (displacement, exact, error; stress, exact, error; "
+               "volume) and the method's quadrature points (stress, exact, error; stress points "
+               "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
+               "through the resolutions: its time axis is the particle spacing h.\n\n" +
+               write_vtk_collections(dir, base, section.studies,
+                                     {{".vtp", write_particles_vtp},
+                                      {"-quadrature.vtp", write_quadrature_vtp}});
+  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 
 }  // namespace mfv

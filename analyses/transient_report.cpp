@@ -119,25 +119,20 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                                     const std::string& title, const fs::path& dir, bool vtk) {
   const auto problem = create_problem(catalogue, section.problem, section.problem_params);
   const std::string base = slug(title);
-  std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\nResolutions count {}.\n\n",
-                               title,
-                               catalogue.problems.entry(section.problem).description,
-                               problem->resolution_name());
-  md += "**Methods and time integration.**\n\n";
-  for (const auto& s : section.studies)
-    md += fmt::format("- `{}`: {}; {}\n", s.label, s.cases.front().method_description,
-                      s.cases.front().data<TransientData>().dynamics);
-  for (const auto& f : section.failures) md += fmt::format("- **could not run:** {}\n", f);
-  md += "\n";
-
-  md += findings_block(catalogue, *problem, section.studies);
+  PageParts page;
+  page.lead = page_lead(*problem);
+  page.methods = methods_list(section, [](const StudyResult& s) {
+    return fmt::format("`{}`: {}; {}", s.label, s.cases.front().method_description,
+                       s.cases.front().data<TransientData>().dynamics);
+  });
+  page.findings = findings_block(catalogue, *problem, section.studies);
 
   // Errors, steps and CPU per case; the headline columns are whatever the problem measured.
   std::set<std::string> keys;
   for (const auto& s : section.studies)
     for (const auto& r : s.cases)
       for (const auto& [k, v] : r.headline) keys.insert(k);
-  md += "## Errors, time steps and CPU\n\n\"dt/crit\" is the step over the critical step "
+  page.errors = "\"dt/crit\" is the step over the critical step "
         "2/ω_max of the method's own stiffness and lumped mass (power iteration); \"energy "
         "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
         "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
@@ -170,7 +165,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                                       : "–");
         t.add_row(row);
       }
-    md += t.str() + "\n";
+    page.errors += t.str() + "\n";
   }
   // Why each unstable run was called so (the criteria of analyses/transient.hpp).
   {
@@ -180,47 +175,44 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         if (r.data<TransientData>().instability)
           why += fmt::format("- `{}` n={}: {}\n", s.label, r.spec.nodes, r.data<TransientData>().verdict());
     if (!why.empty())
-      md += fmt::format("**Unstable runs.** A run stops at once when its fields go non-finite or "
+      page.errors += fmt::format("**Unstable runs.** A run stops at once when its fields go non-finite or "
                         "its kinetic energy exceeds {:g} × the energy put in (E₀ + max |W_ext|); "
                         "a problem may add its own criterion. Checkpoints after the stop are "
                         "\"not reached\"; a peak of a run stopped early is a lower bound (≥).\n\n{}\n",
                         kEnergyBound, why);
   }
-  md += frame_comparison(section.studies);
+  page.errors += frame_comparison(section.studies);
 
   // Rates of the main error over the resolutions.
   bool several = false;
   for (const auto& s : section.studies) several = several || s.cases.size() > 1;
-  fs::create_directories(dir / "plots");
   if (several) {
     std::string main_error = "the problem's relative L2 error";
     for (const auto& st : section.studies)
       if (!st.cases.empty() && !st.cases.front().data<TransientData>().main_error.empty())
         main_error = st.cases.front().data<TransientData>().main_error;
-    md += fmt::format("## Convergence of the main error\n\nLeast-squares slope of ln(error) "
-                      "against ln(h) and the slopes between successive resolutions (error: {}; "
-                      "a resolution that did not reach its checkpoint leaves the rate "
-                      "undefined, \"–\").\n\n",
-                      main_error);
+    page.rates = fmt::format("Of the main error: least-squares slope of ln(error) against "
+                             "ln(h) and the slopes between successive resolutions (error: {}; "
+                             "a resolution that did not reach its checkpoint leaves the rate "
+                             "undefined, \"–\").\n\n",
+                             main_error);
     MarkdownTable t({"method", "rate", "pairwise"}, {'l', 'r', 'r'});
     for (const auto& s : section.studies)
       t.add_row({s.label, fmt_rate(s.rates.rate("L2")), fmt_rates(s.rates.pairwise_of("L2"))});
-    md += t.str() + "\n";
-    const std::string name = fmt::format("plots/{}-error.svg", base);
+    page.rates += t.str() + "\n";
     // The axis says what is plotted: the relative error the problem measures, with units.
     const PlotSpec spec = convergence_plot(
         title + ": main error", section.studies, main_error,
         [](const CaseResult& c) { return c.errors.l2_rel; },
         [](const Rates& r) { return r.rate("L2"); });
-    if (const auto why = write_svg_plot(dir / name, spec))
-      md += fmt::format("_error plot skipped: {}_\n\n", *why);
-    else
-      md += fmt::format("![error against h]({}{})\n\n", kPageUp, name);
+    page.plots = plot_image(dir, fmt::format("plots/{}-error.svg", base), spec,
+                            "error against h", "error");
   }
 
   // Time histories of the finest case of each study: CSV and plots.
-  md += "## Time histories\n\nEnergy balance and probes of the finest case of each study "
-        "(CSV beside the plots).\n\n";
+  fs::create_directories(dir / "plots");
+  page.plots += "### Time histories\n\nEnergy balance and probes of the finest case of each "
+                "study (CSV beside the plots).\n\n";
   fs::create_directories(dir / "histories");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
@@ -228,7 +220,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     const TimeHistory h = history_of(r.data<TransientData>());
     const std::string stem = fmt::format("{}-{}-n{}", base, slug(s.label), r.spec.nodes);
     write_history_csv(dir / "histories" / (stem + ".csv"), h);
-    md += fmt::format("- `{}` ({} {}): [CSV]({}histories/{}.csv)", s.label, r.spec.nodes,
+    page.plots += fmt::format("- `{}` ({} {}): [CSV]({}histories/{}.csv)", s.label, r.spec.nodes,
                       problem->resolution_name(), kPageUp, stem);
     const std::vector<std::string> energy = {"kinetic", "internal work", "external work",
                                              "energy balance"};
@@ -236,21 +228,22 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     for (std::size_t c = 5; c < h.columns.size(); ++c) probes.push_back(h.columns[c]);
     const std::string en = fmt::format("plots/{}-energy.svg", stem);
     if (!write_svg_plot(dir / en, history_plot(h, energy, s.label + ": energy", "energy")))
-      md += fmt::format(" · [energy plot]({}{})", kPageUp, en);
+      page.plots += fmt::format(" · [energy plot]({}{})", kPageUp, en);
     if (!probes.empty()) {
       const std::string pr = fmt::format("plots/{}-probes.svg", stem);
       if (!write_svg_plot(dir / pr, history_plot(h, probes, s.label + ": probes", "value")))
-        md += fmt::format("\n\n  ![probes of {}]({}{})", s.label, kPageUp, pr);
+        page.plots += fmt::format("\n\n  ![probes of {}]({}{})", s.label, kPageUp, pr);
     }
-    md += "\n";
+    page.plots += "\n";
   }
-  md += "\n";
+  page.plots += "\n";
 
-  md += published_block(*problem, section.studies,
-                        resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published = published_block(
+      *problem, section.studies,
+      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   if (vtk) {
-    md += "## VTK time series\n\nParticles at their current positions with velocity, "
+    page.vtk = "A time series per case: particles at their current positions with velocity, "
           "displacement, Cauchy stress and the problem's exact values and errors; open a "
           "`.pvd` in ParaView and play it.\n\n";
     for (const auto& s : section.studies)
@@ -266,12 +259,12 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
           w.write(pf);
         }
         w.finish();
-        md += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes, sub,
+        page.vtk += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes, sub,
                           r.spec.nodes, kPageUp, sub, r.spec.nodes);
       }
-    md += "\n";
+    page.vtk += "\n";
   }
-  return md;
+  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 
 }  // namespace mfv
