@@ -96,6 +96,15 @@ TEST(TransientReport, RodPulseLabelsTheVelocityErrorAndExplainsFrameAgreement) {
   EXPECT_TRUE(has(md, "`lagrangian` (Lagrangian kernel) and `eulerian` (Eulerian): largest "
                       "relative difference"));
   EXPECT_TRUE(has(md, "agree to every printed digit because the strain is small"));
+  // The page skeleton's headings (analyses/report_section.hpp), in its order.
+  std::size_t last = 0;
+  for (const char* heading : {"**Methods.**", "## Errors and CPU times", "### Lagrangian and",
+                              "## Convergence rates", "## Plots", "### Time histories"}) {
+    const auto at = md.find(heading);
+    ASSERT_NE(at, std::string::npos) << heading;
+    EXPECT_GT(at, last) << heading;
+    last = at;
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 /// The readable report: the shared convergence judgement (reports/convergence.hpp), the
 /// cantilever findings that use it, and the problem pages with their one-screen summaries.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -359,6 +360,86 @@ TEST(ProblemPage, ElasticityPageSaysEnergyWhereItShowsTheEnergyError) {
   EXPECT_NE(page.find("energy rate"), std::string::npos);
   EXPECT_NE(page.find("energy trend"), std::string::npos);
   EXPECT_NE(page.find("converges (rate 1.00)"), std::string::npos) << "energy, rate 1: " << page;
+}
+
+/// The "## " headings of a page, in order.
+std::vector<std::string> headings(const std::string& page) {
+  std::vector<std::string> out;
+  for (const auto& line : lines_of(page))
+    if (line.rfind("## ", 0) == 0) out.push_back(line.substr(3));
+  return out;
+}
+
+/// The skeleton's headings in its order (analyses/report_section.hpp PageParts).
+const std::vector<std::string> kPageOrder = {
+    "The paper's findings and ours", "Errors and CPU times", "Verdicts and measured values",
+    "Convergence rates", "Plots", "Published values beside ours", "VTK files"};
+
+/// Whether every heading is one of the skeleton's, each at most once, in its order.
+bool follows_the_skeleton(const std::vector<std::string>& found) {
+  std::size_t next = 0;
+  for (const auto& h : found) {
+    const auto it = std::find(kPageOrder.begin() + next, kPageOrder.end(), h);
+    if (it == kPageOrder.end()) return false;
+    next = static_cast<std::size_t>(it - kPageOrder.begin()) + 1;
+  }
+  return true;
+}
+
+TEST(PageSkeleton, WritesThePartsInOneOrderAndLeavesEmptyOnesOut) {
+  PageParts parts;
+  parts.vtk = "vtk body\n\n";
+  parts.methods = "- `a`: method a\n";
+  parts.errors = "errors body\n\n";
+  parts.published = "published body\n\n";
+  parts.lead = "Resolutions count nodes.";
+  const std::string page = problem_page("title", "what it is", parts);
+  EXPECT_EQ(page.rfind("# title\n\n[← report](../index.md)\n\nwhat it is\n\n"
+                       "Resolutions count nodes.\n\n**Methods.**\n\n- `a`: method a\n\n",
+                       0),
+            0u)
+      << page;
+  EXPECT_EQ(headings(page), (std::vector<std::string>{"Errors and CPU times",
+                                                      "Published values beside ours",
+                                                      "VTK files"}));
+  EXPECT_LT(page.find("errors body"), page.find("published body"));
+  EXPECT_LT(page.find("published body"), page.find("vtk body"));
+  EXPECT_EQ(page.find("Plots"), std::string::npos) << "an empty part has no heading";
+  EXPECT_EQ(problem_page("t", "d", PageParts{}), "# t\n\n[← report](../index.md)\n\nd\n\n");
+}
+
+TEST(PageSkeleton, ScalarAndElasticityPagesShareItsHeadings) {
+  TempDir dir("mfv-pages");
+  write_problem_section(catalogue(), laplace_section(), dir.path(), false);
+  const std::string scalar = read_file(dir.path() / "problems" / "laplace-tanh.md");
+  EXPECT_TRUE(follows_the_skeleton(headings(scalar))) << scalar;
+  EXPECT_NE(scalar.find("**Methods.**"), std::string::npos);
+  EXPECT_NE(scalar.find("## Plots"), std::string::npos);
+
+  ReportSection section;
+  section.problem = "cantilever";
+  StudyResult s;
+  s.label = "efg-ci";
+  for (int n : {5, 9}) {
+    CaseResult c;
+    c.spec.problem = "cantilever";
+    c.spec.method = "efg-ci";
+    c.spec.nodes = n;
+    c.components = c.dim = 2;
+    c.h = 12.0 / (n - 1);
+    c.errors.l2_rel = 1e-3 * c.h * c.h;
+    c.errors.energy_rel = 1e-2 * c.h;
+    s.cases.push_back(c);
+  }
+  section.studies.push_back(s);
+  write_problem_section(catalogue(), section, dir.path(), false);
+  const std::string elasticity = read_file(dir.path() / "problems" / "cantilever.md");
+  EXPECT_TRUE(follows_the_skeleton(headings(elasticity))) << elasticity;
+  EXPECT_NE(elasticity.find("## Errors and CPU times"), std::string::npos);
+  // The cantilever has no published numbers, only notes: they keep their place.
+  EXPECT_NE(elasticity.find("## Published values beside ours\n\n001 gives no numbers"),
+            std::string::npos)
+      << elasticity;
 }
 
 TEST(ProblemPage, ASecondSectionOfTheSameTitleGetsItsOwnPage) {
