@@ -58,8 +58,9 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
   for (const auto& s : section.studies)
     for (const auto& [k, v] : s.cases.back().headline)
       if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
-  page.verdicts = "One row per case; CPU seconds of the analysis "
-        "(set-up of the operator, then the scans).\n\n";
+  page.verdicts =
+      "One row per case; CPU seconds of the analysis "
+      "(set-up of the operator, then the scans).\n\n";
   std::vector<std::string> header{"case", "verdict"};
   std::vector<char> align{'l', 'l'};
   for (const auto& k : keys) {
@@ -113,9 +114,9 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
         page.plots += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
     }
   }
-  page.published = published_block(
-      *problem, section.studies,
-      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published =
+      published_block(*problem, section.studies,
+                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
   return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 

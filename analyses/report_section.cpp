@@ -305,7 +305,6 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
   return md;
 }
 
-
 std::string problem_page(const std::string& title, const std::string& description,
                          const PageParts& parts) {
   std::string md = fmt::format("# {}\n\n[← report](../index.md)\n\n{}\n\n", title, description);
@@ -335,7 +334,8 @@ std::string methods_list(const ReportSection& section,
 
 std::string page_lead(const Problem& problem) {
   std::vector<std::string> exact;
-  for (const auto& [k, v] : problem.headline_exact()) exact.push_back(fmt::format("{} = {:.6g}", k, v));
+  for (const auto& [k, v] : problem.headline_exact())
+    exact.push_back(fmt::format("{} = {:.6g}", k, v));
   const std::string counts = fmt::format("Resolutions count {}.", problem.resolution_name());
   return exact.empty() ? counts : fmt::format("Exact: {}. {}", fmt::join(exact, ", "), counts);
 }
@@ -369,10 +369,11 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
       for (const auto& [k, v] : r.headline)
         if (std::find(headline_names.begin(), headline_names.end(), k) == headline_names.end())
           headline_names.push_back(k);
-  page.errors = "Errors on the common rule (uniform cells, 6 Gauss points "
-        "each, at least 1200 cells; the same for every method); \"H1\" is the seminorm ‖e′‖, "
-        "\"rel\" divides by the exact solution's norm; \"cond\" is the 2-norm condition number of "
-        "the solved system (above ~1e12 the errors carry round-off). CPU seconds per phase.\n\n";
+  page.errors =
+      "Errors on the common rule (uniform cells, 6 Gauss points "
+      "each, at least 1200 cells; the same for every method); \"H1\" is the seminorm ‖e′‖, "
+      "\"rel\" divides by the exact solution's norm; \"cond\" is the 2-norm condition number of "
+      "the solved system (above ~1e12 the errors carry round-off). CPU seconds per phase.\n\n";
   {
     std::vector<std::string> head = {"method", "nodes", "h", "L2", "L2 rel", "H1", "H1 rel"};
     for (const auto& n : headline_names) head.push_back(n);
@@ -399,12 +400,13 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
     page.errors += t.str() + "\n";
   }
 
-  page.rates = "Least-squares slope of ln e against ln h over all "
-        "resolutions (004 II eq 7.3), and the slope between successive resolutions; the paper "
-        "rule integrates with 12 Gauss points between neighbouring particles. The L2 trend "
-        "judges the pairwise rates and the finest error (reports/convergence.hpp): converges "
-        "only if the finest error is the smallest and the last pairwise and the fitted rate "
-        "are at least 0.5.\n\n";
+  page.rates =
+      "Least-squares slope of ln e against ln h over all "
+      "resolutions (004 II eq 7.3), and the slope between successive resolutions; the paper "
+      "rule integrates with 12 Gauss points between neighbouring particles. The L2 trend "
+      "judges the pairwise rates and the finest error (reports/convergence.hpp): converges "
+      "only if the finest error is the smallest and the last pairwise and the fitted rate "
+      "are at least 0.5.\n\n";
   {
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "H1 rate", "H1 pairwise",
                      "L2 rate (paper rule)", "H1 rate (paper rule)", "L2 trend"},
@@ -428,25 +430,25 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
                               "relative L2 error ||u_h - u|| / ||u|| (dimensionless)",
                               [](const CaseResult& c) { return c.errors.l2_rel; },
                               [](const Rates& r) { return r.rate("L2"); });
-    page.plots += plot_image(dir, fmt::format("plots/{}-{}.svg", base, h1 ? "h1" : "l2"), spec,
-                             fmt::format("{} error against h", h1 ? "H1 seminorm" : "L2"),
-                             h1 ? "H1" : "L2");
+    page.plots +=
+        plot_image(dir, fmt::format("plots/{}-{}.svg", base, h1 ? "h1" : "l2"), spec,
+                   fmt::format("{} error against h", h1 ? "H1 seminorm" : "L2"), h1 ? "H1" : "L2");
   }
 
-  page.published = published_block(
-      *problem, section.studies,
-      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published =
+      published_block(*problem, section.studies,
+                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   // One ParaView collection per study, stepping through the resolutions.
   if (vtk)
-    page.vtk = "Particles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
-               "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
-               "through the resolutions: its time axis is the particle spacing h.\n\n" +
-               write_vtk_collections(dir, base, section.studies,
-                                     {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
+    page.vtk =
+        "Particles (u_h, u_exact, error, du/dx, coefficients, volumes) and "
+        "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
+        "through the resolutions: its time axis is the particle spacing h.\n\n" +
+        write_vtk_collections(dir, base, section.studies,
+                              {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
   return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
-
 
 ConvergenceJudgement judge_study(const StudyResult& study,
                                  const std::function<double(const CaseResult&)>& error) {

@@ -10,8 +10,8 @@
 
 #include "analyses/analysis.hpp"
 #include "analyses/case.hpp"
-#include "reports/plot.hpp"
 #include "reports/convergence.hpp"
+#include "reports/plot.hpp"
 
 namespace mfv {
 
@@ -88,7 +88,7 @@ struct PageParts {
   std::string methods;    ///< "**Methods.**": one list item per study (methods_list)
   std::string findings;   ///< "## The paper's findings and ours" (findings_block)
   std::string errors;     ///< "## Errors and CPU times": per case
-  std::string verdicts;   ///< "## Verdicts and measured values": per case, for analyses without errors
+  std::string verdicts;   ///< "## Verdicts and measured values": per case, analyses without errors
   std::string rates;      ///< "## Convergence rates": per study
   std::string plots;      ///< "## Plots": convergence plots, time histories, figures, data files
   std::string published;  ///< "## Published values beside ours" (published_block)

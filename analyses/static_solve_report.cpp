@@ -79,11 +79,12 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
   page.findings = findings_block(catalogue, *problem, section.studies);
 
   // Errors, sizes, solver and times.
-  page.errors = "\"L2\" is the relative displacement error (001 eq "
-        "71), \"energy\" the relative energy error (eq 73, with a square root, see below); "
-        "\"common\" on 4×4 Gauss over a uniform grid with the trial field, \"own\" on the "
-        "method's own quadrature with its own values and gradients. \"rcond\" is UMFPACK's "
-        "reciprocal condition estimate, \"fill\" the nonzeros of L+U. CPU seconds per phase.\n\n";
+  page.errors =
+      "\"L2\" is the relative displacement error (001 eq "
+      "71), \"energy\" the relative energy error (eq 73, with a square root, see below); "
+      "\"common\" on 4×4 Gauss over a uniform grid with the trial field, \"own\" on the "
+      "method's own quadrature with its own values and gradients. \"rcond\" is UMFPACK's "
+      "reciprocal condition estimate, \"fill\" the nonzeros of L+U. CPU seconds per phase.\n\n";
   {
     std::vector<std::string> head = {"method", problem->resolution_name(), "particles",
                                      "stress pts", "cells", "quad pts", "h", "L2 common",
@@ -126,10 +127,11 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
     page.errors += fmt::format("Solvers used: {}.\n\n", fmt::join(solvers, "; "));
   }
 
-  page.rates = "Least-squares slope of ln(error) against ln(h), and the slopes "
-        "between successive resolutions. The trends judge the pairwise rates and the finest "
-        "error (reports/convergence.hpp): converges only if the finest error is the smallest and "
-        "the last pairwise and the fitted rate are at least 0.5.\n\n";
+  page.rates =
+      "Least-squares slope of ln(error) against ln(h), and the slopes "
+      "between successive resolutions. The trends judge the pairwise rates and the finest "
+      "error (reports/convergence.hpp): converges only if the finest error is the smallest and "
+      "the last pairwise and the fitted rate are at least 0.5.\n\n";
   {
     MarkdownTable t({"method", "L2 rate", "L2 pairwise", "energy rate", "energy pairwise",
                      "L2 rate (own)", "energy rate (own)", "L2 trend", "energy trend"},
@@ -153,25 +155,25 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
                      title + ": L2 error", section.studies, "relative L2 displacement error",
                      [](const CaseResult& c) { return c.errors.l2_rel; },
                      [](const Rates& r) { return r.rate("L2"); });
-    page.plots +=
-        plot_image(dir, fmt::format("plots/{}-{}.svg", base, energy ? "energy" : "l2"), spec,
-                   fmt::format("{} error against h", energy ? "energy" : "L2"),
-                   energy ? "energy" : "L2");
+    page.plots += plot_image(dir, fmt::format("plots/{}-{}.svg", base, energy ? "energy" : "l2"),
+                             spec, fmt::format("{} error against h", energy ? "energy" : "L2"),
+                             energy ? "energy" : "L2");
   }
 
-  page.published = published_block(
-      *problem, section.studies,
-      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published =
+      published_block(*problem, section.studies,
+                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   // Particles and quadrature points per resolution, one collection per study.
   if (vtk)
-    page.vtk = "Particles (displacement, exact, error; stress, exact, error; "
-               "volume) and the method's quadrature points (stress, exact, error; stress points "
-               "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
-               "through the resolutions: its time axis is the particle spacing h.\n\n" +
-               write_vtk_collections(dir, base, section.studies,
-                                     {{".vtp", write_particles_vtp},
-                                      {"-quadrature.vtp", write_quadrature_vtp}});
+    page.vtk =
+        "Particles (displacement, exact, error; stress, exact, error; "
+        "volume) and the method's quadrature points (stress, exact, error; stress points "
+        "and Gauss points). Open the `.pvd` in ParaView, warp by `displacement` and step "
+        "through the resolutions: its time axis is the particle spacing h.\n\n" +
+        write_vtk_collections(
+            dir, base, section.studies,
+            {{".vtp", write_particles_vtp}, {"-quadrature.vtp", write_quadrature_vtp}});
   return problem_page(title, catalogue.problems.entry(section.problem).description, page);
 }
 

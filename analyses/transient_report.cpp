@@ -132,11 +132,12 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   for (const auto& s : section.studies)
     for (const auto& r : s.cases)
       for (const auto& [k, v] : r.headline) keys.insert(k);
-  page.errors = "\"dt/crit\" is the step over the critical step "
-        "2/ω_max of the method's own stiffness and lumped mass (power iteration); \"energy "
-        "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
-        "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
-        "step) and the time loop; particle-steps/s from the loop's CPU time.\n\n";
+  page.errors =
+      "\"dt/crit\" is the step over the critical step "
+      "2/ω_max of the method's own stiffness and lumped mass (power iteration); \"energy "
+      "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
+      "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
+      "step) and the time loop; particle-steps/s from the loop's CPU time.\n\n";
   {
     std::vector<std::string> head = {"method", problem->resolution_name(), "particles",
                                       "stress pts", "quad pts", "dt", "dt/crit", "steps", "run"};
@@ -175,11 +176,12 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         if (r.data<TransientData>().instability)
           why += fmt::format("- `{}` n={}: {}\n", s.label, r.spec.nodes, r.data<TransientData>().verdict());
     if (!why.empty())
-      page.errors += fmt::format("**Unstable runs.** A run stops at once when its fields go non-finite or "
-                        "its kinetic energy exceeds {:g} × the energy put in (E₀ + max |W_ext|); "
-                        "a problem may add its own criterion. Checkpoints after the stop are "
-                        "\"not reached\"; a peak of a run stopped early is a lower bound (≥).\n\n{}\n",
-                        kEnergyBound, why);
+      page.errors += fmt::format(
+          "**Unstable runs.** A run stops at once when its fields go non-finite or "
+          "its kinetic energy exceeds {:g} × the energy put in (E₀ + max |W_ext|); "
+          "a problem may add its own criterion. Checkpoints after the stop are "
+          "\"not reached\"; a peak of a run stopped early is a lower bound (≥).\n\n{}\n",
+          kEnergyBound, why);
   }
   page.errors += frame_comparison(section.studies);
 
@@ -191,11 +193,12 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     for (const auto& st : section.studies)
       if (!st.cases.empty() && !st.cases.front().data<TransientData>().main_error.empty())
         main_error = st.cases.front().data<TransientData>().main_error;
-    page.rates = fmt::format("Of the main error: least-squares slope of ln(error) against "
-                             "ln(h) and the slopes between successive resolutions (error: {}; "
-                             "a resolution that did not reach its checkpoint leaves the rate "
-                             "undefined, \"–\").\n\n",
-                             main_error);
+    page.rates = fmt::format(
+        "Of the main error: least-squares slope of ln(error) against "
+        "ln(h) and the slopes between successive resolutions (error: {}; "
+        "a resolution that did not reach its checkpoint leaves the rate "
+        "undefined, \"–\").\n\n",
+        main_error);
     MarkdownTable t({"method", "rate", "pairwise"}, {'l', 'r', 'r'});
     for (const auto& s : section.studies)
       t.add_row({s.label, fmt_rate(s.rates.rate("L2")), fmt_rates(s.rates.pairwise_of("L2"))});
@@ -205,14 +208,15 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         title + ": main error", section.studies, main_error,
         [](const CaseResult& c) { return c.errors.l2_rel; },
         [](const Rates& r) { return r.rate("L2"); });
-    page.plots = plot_image(dir, fmt::format("plots/{}-error.svg", base), spec,
-                            "error against h", "error");
+    page.plots =
+        plot_image(dir, fmt::format("plots/{}-error.svg", base), spec, "error against h", "error");
   }
 
   // Time histories of the finest case of each study: CSV and plots.
   fs::create_directories(dir / "plots");
-  page.plots += "### Time histories\n\nEnergy balance and probes of the finest case of each "
-                "study (CSV beside the plots).\n\n";
+  page.plots +=
+      "### Time histories\n\nEnergy balance and probes of the finest case of each "
+      "study (CSV beside the plots).\n\n";
   fs::create_directories(dir / "histories");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
@@ -221,7 +225,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     const std::string stem = fmt::format("{}-{}-n{}", base, slug(s.label), r.spec.nodes);
     write_history_csv(dir / "histories" / (stem + ".csv"), h);
     page.plots += fmt::format("- `{}` ({} {}): [CSV]({}histories/{}.csv)", s.label, r.spec.nodes,
-                      problem->resolution_name(), kPageUp, stem);
+                              problem->resolution_name(), kPageUp, stem);
     const std::vector<std::string> energy = {"kinetic", "internal work", "external work",
                                              "energy balance"};
     std::vector<std::string> probes;
@@ -238,14 +242,15 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   }
   page.plots += "\n";
 
-  page.published = published_block(
-      *problem, section.studies,
-      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
+  page.published =
+      published_block(*problem, section.studies,
+                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
 
   if (vtk) {
-    page.vtk = "A time series per case: particles at their current positions with velocity, "
-          "displacement, Cauchy stress and the problem's exact values and errors; open a "
-          "`.pvd` in ParaView and play it.\n\n";
+    page.vtk =
+        "A time series per case: particles at their current positions with velocity, "
+        "displacement, Cauchy stress and the problem's exact values and errors; open a "
+        "`.pvd` in ParaView and play it.\n\n";
     for (const auto& s : section.studies)
       for (const auto& r : s.cases) {
         if (r.data<TransientData>().frames.empty()) continue;
@@ -259,8 +264,8 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
           w.write(pf);
         }
         w.finish();
-        page.vtk += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes, sub,
-                          r.spec.nodes, kPageUp, sub, r.spec.nodes);
+        page.vtk += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes,
+                                sub, r.spec.nodes, kPageUp, sub, r.spec.nodes);
       }
     page.vtk += "\n";
   }
