@@ -105,7 +105,7 @@ void register_frozen_shepard(MethodRegistry& r, const MethodParts& parts) {
 }
 
 const Catalogue& catalogue() {
-  static const Catalogue c(Extensions{{register_wendland}, {}, {register_frozen_shepard}, {}});
+  static const Catalogue c(Extensions{{register_wendland}, {}, {register_frozen_shepard}, {}, {}});
   return c;
 }
 

@@ -49,8 +49,9 @@ TEST_P(Judgement, TrendFollowsPairwiseRatesAndFinestError) {
   for (std::size_t i = 0; i < c.rates.size(); ++i) EXPECT_NEAR(j.pairwise[i], c.rates[i], 1e-9);
   EXPECT_NE(j.reason.find(c.reason_part), std::string::npos) << j.reason;
   EXPECT_EQ(j.converges(), c.expected == Trend::converges);
-  if (c.expected != Trend::converges)
+  if (c.expected != Trend::converges) {
     EXPECT_EQ(j.label().find("converges"), std::string::npos) << j.label();
+  }
 }
 
 // The cantilever's constant-support resolutions 5, 7, 9, 13 across the depth D = 12:
@@ -263,7 +264,9 @@ TEST(ProblemPage, IsWrittenAndLinkedFromASmallSummary) {
   // caller's to write).
   for (std::size_t at = text.find("]("); at != std::string::npos; at = text.find("](", at + 2)) {
     const std::string target = text.substr(at + 2, text.find(')', at) - at - 2);
-    if (target != "../index.md") EXPECT_TRUE(fs::exists(page.parent_path() / target)) << target;
+    if (target != "../index.md") {
+      EXPECT_TRUE(fs::exists(page.parent_path() / target)) << target;
+    }
   }
 }
 

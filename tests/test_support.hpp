@@ -15,7 +15,7 @@ void register_wendland(KernelRegistry& r);
 
 /// The built-in catalogue plus the example kernel of docs/architecture.md.
 inline const Catalogue& test_catalogue() {
-  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {}});
+  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {}, {}});
   return c;
 }
 
