@@ -40,7 +40,7 @@ void register_patch(ProblemRegistry& r) {
 }
 
 const Catalogue& patch_catalogue() {
-  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {register_patch}});
+  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {register_patch}, {}});
   return c;
 }
 
