@@ -59,6 +59,12 @@ ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec) {
 }
 
 
+std::string analysis_of(const Registries& plugins, const CaseResult& r) {
+  if (!r.analysis.empty()) return r.analysis;
+  if (!r.spec.analysis.empty()) return r.spec.analysis;
+  return create_problem(plugins, r.spec.problem, r.spec.problem_params)->analyses().front();
+}
+
 Params resolved_case_params(const Registries& plugins, const std::string& problem,
                             const Params& given, const std::string& analysis) {
   const Params own = problem_own_params(plugins, problem, given);

@@ -4,6 +4,7 @@
 /// page. A problem declares the analyses that apply to it (Problem::analyses()); the runner
 /// (verify/runner.hpp) asks this registry, never the kind of the problem.
 #pragma once
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <ostream>
@@ -55,6 +56,18 @@ struct AnalysisContext {
 
 struct ReportSection;
 
+/// The error norms the cases of an analysis measure, by their results.json names ("l2",
+/// "h1_seminorm", "h1", "energy"; energy for vector fields only), whether their absolute values
+/// are measured too, and why a norm that is not listed is absent.
+struct MeasuredErrors {
+  std::vector<std::string> relative;
+  bool absolute = false;
+  std::string why_not;
+  bool has(const std::string& norm) const {
+    return std::find(relative.begin(), relative.end(), norm) != relative.end();
+  }
+};
+
 class Analysis {
  public:
   virtual ~Analysis() = default;
@@ -74,6 +87,9 @@ class Analysis {
   virtual std::string summary(const Problem& problem, const ReportSection& section) const = 0;
   /// What the page holds, for the link to it ("every resolution's errors, rates and CPU …").
   virtual std::string page_contents(bool vtk) const = 0;
+  /// The error norms its cases measure (reports, the study table and results.json show these
+  /// and say why the others are absent, never a 0).
+  virtual MeasuredErrors measured_errors() const = 0;
   /// Prints one case for `mfv run` / `mfv analyse` (what ran, errors or verdicts, headline
   /// values, CPU) and returns the exit status it calls for: 1 for a run that failed (went
   /// unstable), else 0.
@@ -96,6 +112,10 @@ struct ResolvedCase {
 /// Throws InputError naming the parameter and what is valid (the problem's and the
 /// analysis's keys; the problem's analyses).
 ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec);
+
+/// The analysis that ran `r`: its own record, or for a case built by hand (no record) the
+/// problem's default.
+std::string analysis_of(const Registries& plugins, const CaseResult& r);
 
 /// The keys of `given` the problem declares (the others are its analysis's parameters).
 Params problem_own_params(const Registries& plugins, const std::string& problem,

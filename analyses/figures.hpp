@@ -16,6 +16,11 @@ class FigureAnalysis : public Analysis {
                    bool vtk) const override;
   std::string summary(const Problem& problem, const ReportSection& section) const override;
   std::string page_contents(bool vtk) const override;
+  /// None: a figure analysis computes no field error (its headline values are what it
+  /// measures).
+  MeasuredErrors measured_errors() const override {
+    return {{}, false, "an analysis computes no field error"};
+  }
   /// The setup, each verdict, the headline values and the CPU seconds.
   int print_case(const CaseResult& r, std::ostream& out) const override;
 };

@@ -218,6 +218,9 @@ class StaticSolve final : public Analysis {
                        vtk ? " and VTK files" : "");
   }
   bool section_per_problem_params() const override { return true; }
+  MeasuredErrors measured_errors() const override {
+    return {{"l2", "h1_seminorm", "h1", "energy"}, true, ""};
+  }
   int print_case(const CaseResult& r, std::ostream& out) const override {
     const SolveInfo& s = r.data<StaticSolveData>().solve;
     out << fmt::format("L2 error  {:.6e}  (relative {:.6e})\n", r.errors.l2, r.errors.l2_rel);

@@ -252,6 +252,9 @@ class TransientAnalysis final : public Analysis {
                        "values{}",
                        vtk ? " and VTK files" : "");
   }
+  MeasuredErrors measured_errors() const override {
+    return {{"l2"}, false, "a transient run measures only the relative L2 error of its main field"};
+  }
   int print_case(const CaseResult& r, std::ostream& out) const override {
     const TransientData& t = r.data<TransientData>();
     out << fmt::format("dynamics  {}\n", t.dynamics);

@@ -60,12 +60,15 @@ double wall_seconds() {
 
 }  // namespace
 
-std::string convergence_table(const StudyResult& s) {
+std::string convergence_table(const Registries& plugins, const StudyResult& s) {
   if (s.cases.empty()) return fmt::format("{}: no resolution ran\n", s.label);
-  // The norms the study measures: transient runs have one main error (L2); static 2D
-  // elasticity is judged in the energy norm, 1D problems in the H1 seminorm (their energy).
+  // The norms the study measures (its analysis says which): the L2 error, and the energy
+  // norm for vector fields (2D elasticity is judged in it), the H1 seminorm for scalar ones
+  // (their energy); an analysis that measures none shows its headline values instead.
   const CaseResult& first = s.cases.front();
-  if (first.find<FigureData>()) {
+  const MeasuredErrors measured =
+      plugins.analyses.create(analysis_of(plugins, first))->measured_errors();
+  if (measured.relative.empty()) {
     // An analysis has no error to converge: its measured values per resolution instead.
     std::vector<std::string> header{"nodes [1]"};
     for (const auto& [k, v] : first.headline) header.push_back(k);
@@ -88,15 +91,16 @@ std::string convergence_table(const StudyResult& s) {
     const std::vector<double>* pairwise;
     double fit;
   };
-  std::vector<Norm> norms{{"L2 rel", &ErrorNorms::l2_rel, &s.rates.pairwise_of("L2"), s.rates.rate("L2")}};
-  if (!first.find<TransientData>()) {
-    if (first.components > 1)
-      norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.pairwise_of("energy"),
-                       s.rates.rate("energy")});
-    else
-      norms.push_back({"H1-semi rel", &ErrorNorms::h1_semi_rel, &s.rates.pairwise_of("H1-semi"),
-                       s.rates.rate("H1-semi")});
-  }
+  std::vector<Norm> norms;
+  if (measured.has("l2"))
+    norms.push_back({"L2 rel", &ErrorNorms::l2_rel, &s.rates.pairwise_of(kRateL2),
+                     s.rates.rate(kRateL2)});
+  if (first.components > 1 && measured.has("energy"))
+    norms.push_back({"energy rel", &ErrorNorms::energy_rel, &s.rates.pairwise_of(kRateEnergy),
+                     s.rates.rate(kRateEnergy)});
+  if (first.components == 1 && measured.has("h1_seminorm"))
+    norms.push_back({"H1-semi rel", &ErrorNorms::h1_semi_rel, &s.rates.pairwise_of(kRateH1Semi),
+                     s.rates.rate(kRateH1Semi)});
   std::vector<std::string> header{"nodes [1]", "h [length]"};
   std::vector<char> align{'r', 'r'};
   for (const auto& n : norms) {
@@ -133,8 +137,9 @@ namespace {
 
 /// Per study a convergence table (as deal.II's ConvergenceTable prints): one row per
 /// resolution with each error and its pairwise rate, then the least-squares rate.
-void print_rate_table(const std::vector<StudyResult>& studies, std::ostream& out) {
-  for (const auto& s : studies) out << convergence_table(s) << "\n";
+void print_rate_table(const Registries& c, const std::vector<StudyResult>& studies,
+                      std::ostream& out) {
+  for (const auto& s : studies) out << convergence_table(c, s) << "\n";
   out << "h: particle spacing in the problem's length unit; errors relative to the exact "
          "solution's norm on the common rule; rate: slope of ln(error) against ln(h) between "
          "successive resolutions, least squares: over all (004 II eq 7.3); CPU: setup + "
@@ -412,7 +417,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
                               e.what());
     }
   }
-  if (!done.empty()) print_rate_table(done, out);
+  if (!done.empty()) print_rate_table(c, done, out);
   for (const auto& f : failures) out << "could not run: " << f << "\n";
 
   if (staged) {

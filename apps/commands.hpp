@@ -48,7 +48,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
 /// their main L2 error) with its pairwise rate, and CPU seconds; a last row with the
 /// least-squares rates and the total CPU time. Markdown, units in every header. An analysis
 /// (no error norms) shows its measured headline values per resolution instead.
-std::string convergence_table(const StudyResult& s);
+std::string convergence_table(const Registries& plugins, const StudyResult& s);
 
 struct AnalyseOptions {
   std::string problem, method, method_params, problem_params;

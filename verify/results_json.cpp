@@ -51,32 +51,17 @@ std::string token(const std::string& s) {
   return out;
 }
 
-/// What a case measured: static problems every norm; transient runs only the relative L2
-/// error of their main field (at the last checkpoint); analyses no field error at all.
-enum class Measured { static_solve, transient, analysis };
-
-Measured measured(const CaseResult& r) {
-  if (r.find<TransientData>()) return Measured::transient;
-  if (r.find<FigureData>()) return Measured::analysis;
-  return Measured::static_solve;
-}
-
-json norms_json(const ErrorNorms& e, int components, Measured m, const std::string& at,
-                JsonNumbers& n) {
+/// The error norms of a case, each measured (as its analysis says) or null with the reason.
+json norms_json(const ErrorNorms& e, int components, const MeasuredErrors& m,
+                const std::string& at, JsonNumbers& n) {
   constexpr const char* kUndefined = "undefined (a zero or non-finite exact norm, or a blow-up)";
   auto pair = [&](const char* name, double abs, double rel) {
     const std::string p = at + "/" + name;
-    if (m == Measured::analysis)
-      return json{{"absolute", n.absent(p + "/absolute", "an analysis computes no field error")},
-                  {"relative", n.absent(p + "/relative", "an analysis computes no field error")}};
-    if (m == Measured::transient) {
-      const char* why = "a transient run measures only the relative L2 error of its main field";
-      return json{{"absolute", n.absent(p + "/absolute", why)},
-                  {"relative", std::string(name) == "l2" ? n.number(rel, p + "/relative", kUndefined)
-                                                         : n.absent(p + "/relative", why)}};
-    }
-    return json{{"absolute", n.number(abs, p + "/absolute", kUndefined)},
-                {"relative", n.number(rel, p + "/relative", kUndefined)}};
+    const bool measured = m.has(name);
+    return json{{"absolute", measured && m.absolute ? n.number(abs, p + "/absolute", kUndefined)
+                                                    : n.absent(p + "/absolute", m.why_not)},
+                {"relative", measured ? n.number(rel, p + "/relative", kUndefined)
+                                      : n.absent(p + "/relative", m.why_not)}};
   };
   json out = {{"l2", pair("l2", e.l2, e.l2_rel)},
               {"h1_seminorm", pair("h1_seminorm", e.h1_semi, e.h1_semi_rel)},
@@ -86,15 +71,13 @@ json norms_json(const ErrorNorms& e, int components, Measured m, const std::stri
   return out;
 }
 
-json rates_json(const Rates& r, int components, Measured m, const std::string& at,
+json rates_json(const Rates& r, int components, const MeasuredErrors& m, const std::string& at,
                 JsonNumbers& n) {
   constexpr const char* kWhy = "fewer than two resolutions with finite, non-zero errors";
   auto one = [&](const char* name, double ls, const std::vector<double>& pw) {
     const std::string p = at + "/" + name;
     json pairwise = json::array();
-    const bool measured = m == Measured::static_solve ||
-                          (m == Measured::transient && std::string(name) == "l2");
-    if (!measured)
+    if (!m.has(name))
       return json{{"least_squares", n.absent(p + "/least_squares", "no such error is measured")},
                   {"pairwise", pairwise}};
     for (std::size_t i = 0; i < pw.size(); ++i)
@@ -220,7 +203,7 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
                 {"particles", r.particles},
                 {"h", n.number(r.h, p + "/h", "no particle spacing")},
                 {"quadrature_points", r.quadrature_points}};
-    const Measured m = measured(r);
+    const MeasuredErrors m = catalogue.analyses.create(analysis_of(catalogue, r))->measured_errors();
     res["errors"] = {{"common", norms_json(r.errors, comps, m, p + "/errors/common", n)},
                      {"paper", norms_json(r.errors_paper, comps, m, p + "/errors/paper", n)}};
     json headline = json::object();
@@ -254,7 +237,8 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
   }
   out["resolutions"] = std::move(resolutions);
   out["published"] = published_json(catalogue, study, at + "/published", n);
-  const Measured m = measured(first);
+  const MeasuredErrors m =
+      catalogue.analyses.create(analysis_of(catalogue, first))->measured_errors();
   out["rates"] = {{"common", rates_json(study.rates, comps, m, at + "/rates/common", n)},
                   {"paper", rates_json(study.rates_paper, comps, m, at + "/rates/paper", n)}};
   return out;
