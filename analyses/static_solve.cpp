@@ -123,7 +123,10 @@ void sample_line(const BoundaryValueProblem& problem, const Discretization& d, c
   const ShapeTable at_nodes = d.trial_at(d.particles.x, 1);
   f.u_h = at_nodes.interpolate(u);
   f.du_h = at_nodes.interpolate_derivative(u);
-  problem.exact(d.particles.x, f.u_exact, f.du_exact);
+  Eigen::MatrixXd u_exact, du_exact;
+  problem.exact_field(d.particles.x, u_exact, du_exact);
+  f.u_exact = u_exact.row(0).transpose();
+  f.du_exact = du_exact.row(0).transpose();
   const int ns = 1201;
   Eigen::MatrixXd xs(1, ns);
   for (int i = 0; i < ns; ++i)
@@ -132,7 +135,9 @@ void sample_line(const BoundaryValueProblem& problem, const Discretization& d, c
   f.sx = xs.row(0).transpose();
   f.su_h = dense.interpolate(u);
   f.sdu_h = dense.interpolate_derivative(u);
-  problem.exact(xs, f.su, f.sdu);
+  problem.exact_field(xs, u_exact, du_exact);
+  f.su = u_exact.row(0).transpose();
+  f.sdu = du_exact.row(0).transpose();
 }
 
 /// 2D: displacement and stress at the particles and the method's own points. Where the

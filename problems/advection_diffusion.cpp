@@ -34,7 +34,7 @@ void particular(double x, double& u, double& du, double& d2u) {
   }
 }
 
-class AdvectionDiffusion final : public BoundaryValueProblem {
+class AdvectionDiffusion final : public ScalarProblem {
  public:
   AdvectionDiffusion(double a, double tau_scale) : a_(a), tau_scale_(tau_scale) {
     g6_ = a_ == 0 ? 0.0 : 1.0;

@@ -146,7 +146,7 @@ Finding sph_galerkin_boundary_gradient(double s) {
           "sph-galerkin-boundary-gradient"};
 }
 
-class LaplaceTanh final : public BoundaryValueProblem {
+class LaplaceTanh final : public ScalarProblem {
  public:
   explicit LaplaceTanh(double s) : s_(s) {}
 

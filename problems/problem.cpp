@@ -5,7 +5,7 @@
 
 namespace mfv {
 
-void BoundaryValueProblem::exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
+void ScalarProblem::exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
                           Eigen::MatrixXd& grad) const {
   Eigen::VectorXd v, dv;
   exact(x, v, dv);

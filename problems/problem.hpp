@@ -135,14 +135,10 @@ class ParticleProblem : public Problem {
 class BoundaryValueProblem : public ParticleProblem {
  public:
   std::vector<std::string> analyses() const override { return {"static-solve"}; }
-  /// Exact solution and its derivative at the columns of x (scalar field, 1D problems).
-  virtual void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const {
-    throw std::logic_error("this problem has a vector field: use exact_field");
-  }
   /// Exact field (components × n) and gradient (components·dim × n; row c·dim + d holds
-  /// ∂u_c/∂x_d) at the columns of x. The default wraps the scalar `exact`.
+  /// ∂u_c/∂x_d) at the columns of x.
   virtual void exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
-                           Eigen::MatrixXd& grad) const;
+                           Eigen::MatrixXd& grad) const = 0;
   /// Energy density σ(∇v):ε(∇v) of gradient columns (the energy norm's integrand, 001 eq 74);
   /// the default |∇v|² is the H1 seminorm's (unit diffusion).
   virtual Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const {
@@ -164,6 +160,16 @@ class BoundaryValueProblem : public ParticleProblem {
                                                  const Eigen::VectorXd& u) const {
     return {};
   }
+};
+
+/// A boundary value problem for a scalar field on a line (004's 1D problems): the exact
+/// solution and its derivative, which exact_field returns as 1 × n rows.
+class ScalarProblem : public BoundaryValueProblem {
+ public:
+  /// Exact solution and its derivative at the columns of x.
+  virtual void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const = 0;
+  void exact_field(const Eigen::MatrixXd& x, Eigen::MatrixXd& u,
+                   Eigen::MatrixXd& grad) const override;
 };
 
 using ProblemRegistry = Registry<Problem>;

@@ -16,7 +16,7 @@ namespace {
 
 /// -u'' = 0 on [0, 1] with u = 1 + 2x: any linearly consistent Galerkin method with accurate
 /// integration reproduces it (the patch test).
-class LinearPatch final : public BoundaryValueProblem {
+class LinearPatch final : public ScalarProblem {
  public:
   Domain domain() const override { return Domain::interval(0, 1); }
   void exact(const Eigen::MatrixXd& x, Eigen::VectorXd& u, Eigen::VectorXd& du) const override {
