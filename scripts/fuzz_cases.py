@@ -14,13 +14,14 @@ summary; exits 1 if any case failed.
   scripts/fuzz_cases.py --mfv build/release/apps/mfv --count 300 --seed 7
   scripts/fuzz_cases.py --mfv build/release/apps/mfv --corpus     # the fixed CTest corpus
 """
-import argparse
 import random
 import re
-import subprocess
 import os
 import sys
+import subprocess
 import tempfile
+
+from fuzz_common import arguments, crash, outcomes, run, tally
 
 ANALYSES = {"dispersion", "time-step", "enriched-bar", "stretch-map"}
 # Edge values: (text, kind); a number-typed parameter given a word is "wrong type".
@@ -110,23 +111,12 @@ def mutate_case(rng, catalogue, cmd, problem, method):
     return cmd + ["-p", "zzz=1"], ["zzz"]
 
 
-def run(mfv, argv, timeout, cwd):
-    try:
-        return subprocess.run([mfv] + argv, capture_output=True, text=True, timeout=timeout,
-                              cwd=cwd, errors="replace")
-    except subprocess.TimeoutExpired:
-        return None
-
-
 def classify(p, words, timeout):
     """None when the outcome is fine, else the reason it is a failure."""
-    if p is None:
-        return f"timeout after {timeout} s (hang)"
+    why = crash(p, timeout)
+    if why:
+        return why
     text = p.stdout + p.stderr
-    if p.returncode < 0:
-        return f"killed by signal {-p.returncode}: {p.stderr.strip()[-300:]}"
-    if p.returncode not in (0, 1, 2, 3):
-        return f"exit {p.returncode}: {p.stderr.strip()[-300:]}"
     if p.returncode == 2 and not any(w and w in text for w in words):
         return f"exit 2 without naming the input {words}: {p.stderr.strip()[-300:]}"
     if p.returncode in (1, 3) and not p.stderr.strip() and "could not run" not in text:
@@ -135,16 +125,8 @@ def classify(p, words, timeout):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mfv", required=True)
-    ap.add_argument("--count", type=int, default=200)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=60)
-    ap.add_argument("--corpus", action="store_true",
-                    help="the fixed corpus of the CTest test: 40 cases, seed 12, 20 s each")
-    a = ap.parse_args()
-    if a.corpus:
-        a.count, a.seed, a.timeout = 40, 12, 20
+    a = arguments(__doc__, "the fixed corpus of the CTest test: 40 cases, seed 12, 20 s each",
+                  40, 12)
     a.mfv = os.path.abspath(a.mfv)
     catalogue = parse_list(a.mfv)
     rng = random.Random(a.seed)
@@ -158,21 +140,20 @@ def main():
                 base, problem, method = base_case(rng, catalogue)
                 key = tuple(base)
                 if key not in base_refused:
-                    b = run(a.mfv, base, a.timeout, cwd)
+                    b = run(a.mfv, base, cwd, a.timeout)
                     base_refused[key] = b is not None and b.returncode == 2
                 if not base_refused[key]:
                     break
             argv, words = mutate_case(rng, catalogue, base, problem, method)
             if base_refused[key]:
                 words = words + [problem, method]
-            p = run(a.mfv, argv, a.timeout, cwd)
-            code = "timeout" if p is None else p.returncode
-            codes[code] = codes.get(code, 0) + 1
+            p = run(a.mfv, argv, cwd, a.timeout)
+            tally(codes, p)
             why = classify(p, words, a.timeout)
             if why:
                 failures.append((argv, why))
                 print(f"FAIL {i}: mfv {' '.join(argv)}\n     {why}", flush=True)
-    print("outcomes: " + ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items(), key=str)))
+    print(outcomes(codes))
     print(f"fuzz_cases: {a.count} cases (seed {a.seed}), {len(failures)} failure(s)")
     return 1 if failures else 0
 

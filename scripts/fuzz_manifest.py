@@ -14,12 +14,12 @@ failure. Prints one line per failure and a summary; exits 1 if any mutation fail
   scripts/fuzz_manifest.py --mfv build/release/apps/mfv --count 300 --seed 3
   scripts/fuzz_manifest.py --mfv build/release/apps/mfv --corpus   # the fixed CTest corpus
 """
-import argparse
 import os
 import random
-import subprocess
 import sys
 import tempfile
+
+from fuzz_common import arguments, crash, outcomes, run, tally
 
 MANIFEST = """[suite]
 name = "fuzz"
@@ -66,22 +66,11 @@ def mutate(rng, data):
     return bytes(data)
 
 
-def run(mfv, args, cwd, timeout):
-    try:
-        return subprocess.run([mfv] + args, capture_output=True, text=True, cwd=cwd,
-                              timeout=timeout, errors="replace")
-    except subprocess.TimeoutExpired:
-        return None
-
-
 def classify(p, timeout):
-    if p is None:
-        return f"timeout after {timeout} s (hang)"
+    why = crash(p, timeout)
+    if why:
+        return why
     text = p.stdout + p.stderr
-    if p.returncode < 0:
-        return f"killed by signal {-p.returncode}: {p.stderr.strip()[-300:]}"
-    if p.returncode not in (0, 1, 2, 3):
-        return f"exit {p.returncode}: {p.stderr.strip()[-300:]}"
     if p.returncode == 2 and not any(w in text for w in ("suite.toml", "baseline.toml", "lt/fem",
                                                           "case")):
         return f"exit 2 naming neither file nor case: {p.stderr.strip()[-300:]}"
@@ -91,16 +80,8 @@ def classify(p, timeout):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mfv", required=True)
-    ap.add_argument("--count", type=int, default=200)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=60)
-    ap.add_argument("--corpus", action="store_true",
-                    help="the fixed corpus of the CTest test: 60 mutations, seed 5, 20 s each")
-    a = ap.parse_args()
-    if a.corpus:
-        a.count, a.seed, a.timeout = 60, 5, 20
+    a = arguments(__doc__, "the fixed corpus of the CTest test: 60 mutations, seed 5, 20 s each",
+                  60, 5)
     mfv = os.path.abspath(a.mfv)
     rng = random.Random(a.seed)
     failures, codes = 0, {}
@@ -121,15 +102,14 @@ def main():
                 with open(path, "wb") as f:
                     f.write(mutated if path == target else data)
             p = run(mfv, ["verify", manifest, "--no-report"], d, a.timeout)
-            code = "timeout" if p is None else p.returncode
-            codes[code] = codes.get(code, 0) + 1
+            tally(codes, p)
             why = classify(p, a.timeout)
             if why:
                 failures += 1
                 name = os.path.basename(target)
                 print(f"FAIL {i}: mutated {name}: {why}\n----\n"
                       f"{mutated.decode('utf-8', 'replace')}\n----", flush=True)
-    print("outcomes: " + ", ".join(f"exit {c}: {n}" for c, n in sorted(codes.items(), key=str)))
+    print(outcomes(codes))
     print(f"fuzz_manifest: {a.count} mutations (seed {a.seed}), {failures} failure(s)")
     return 1 if failures else 0
 
