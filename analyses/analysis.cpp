@@ -7,10 +7,51 @@
 
 namespace mfv {
 
+namespace {
+
+std::set<std::string> keys_of(const ParamSchema& schema) {
+  std::set<std::string> keys;
+  for (const auto& s : schema) keys.insert(s.name);
+  return keys;
+}
+
+/// resolve_case without the method: the split of the given parameters between the problem
+/// and its analysis, each resolved.
+ResolvedCase resolve_problem_and_analysis(const Registries& plugins, const std::string& name,
+                                          const Params& given, const std::string& analysis) {
+  ResolvedCase rc;
+  rc.problem_given = problem_own_params(plugins, name, given);
+  const auto problem = plugins.problems.create(name, rc.problem_given);
+  const std::vector<std::string> declared = problem->analyses();
+  rc.analysis = analysis.empty() ? declared.front() : analysis;
+  if (std::find(declared.begin(), declared.end(), rc.analysis) == declared.end())
+    throw InputError(fmt::format("problem '{}' has no analysis '{}'; its analyses: {} (leave "
+                                 "`analysis` out for the first)",
+                                 name, rc.analysis, fmt::join(declared, ", ")));
+  const std::set<std::string> analysis_keys =
+      keys_of(plugins.analyses.entry(rc.analysis).schema);
+  rc.analysis_given = problem->analysis_defaults(rc.analysis);
+  for (const auto& [k, v] : given.values()) {
+    if (rc.problem_given.has(k)) continue;
+    if (!analysis_keys.count(k))
+      throw InputError(fmt::format(
+          "unknown parameter '{}' of problem '{}' (analysis '{}'); the problem's: {}; the "
+          "analysis's: {}",
+          k, name, rc.analysis, fmt::join(keys_of(plugins.problems.entry(name).schema), ", "),
+          analysis_keys.empty() ? std::string("none")
+                                : fmt::format("{}", fmt::join(analysis_keys, ", "))));
+    rc.analysis_given.set(k, v);
+  }
+  rc.problem_params = plugins.problems.resolve(name, rc.problem_given);
+  rc.analysis_params = plugins.analyses.resolve(rc.analysis, rc.analysis_given);
+  return rc;
+}
+
+}  // namespace
+
 Params problem_own_params(const Registries& plugins, const std::string& problem,
                           const Params& given) {
-  std::set<std::string> keys;
-  for (const auto& s : plugins.problems.entry(problem).schema) keys.insert(s.name);
+  const std::set<std::string> keys = keys_of(plugins.problems.entry(problem).schema);
   Params own;
   for (const auto& [k, v] : given.values())
     if (keys.count(k)) own.set(k, v);
@@ -23,41 +64,11 @@ std::unique_ptr<Problem> create_problem(const Registries& plugins, const std::st
 }
 
 ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec) {
-  ResolvedCase rc;
-  const auto& problem_entry = plugins.problems.entry(spec.problem);
-  std::set<std::string> problem_keys;
-  for (const auto& s : problem_entry.schema) problem_keys.insert(s.name);
-  std::vector<std::string> others;
-  for (const auto& [k, v] : spec.problem_params.values()) {
-    if (problem_keys.count(k)) rc.problem_given.set(k, v);
-    else others.push_back(k);
-  }
-  const auto problem = plugins.problems.create(spec.problem, rc.problem_given);
-  const std::vector<std::string> declared = problem->analyses();
-  rc.analysis = spec.analysis.empty() ? declared.front() : spec.analysis;
-  if (std::find(declared.begin(), declared.end(), rc.analysis) == declared.end())
-    throw InputError(fmt::format("problem '{}' has no analysis '{}'; its analyses: {} (leave "
-                                 "`analysis` out for the first)",
-                                 spec.problem, rc.analysis, fmt::join(declared, ", ")));
-  const auto& analysis_entry = plugins.analyses.entry(rc.analysis);
-  std::set<std::string> analysis_keys;
-  for (const auto& s : analysis_entry.schema) analysis_keys.insert(s.name);
-  rc.analysis_given = problem->analysis_defaults(rc.analysis);
-  for (const auto& k : others) {
-    if (!analysis_keys.count(k))
-      throw InputError(fmt::format(
-          "unknown parameter '{}' of problem '{}' (analysis '{}'); the problem's: {}; the "
-          "analysis's: {}",
-          k, spec.problem, rc.analysis, fmt::join(problem_keys, ", "),
-          analysis_keys.empty() ? std::string("none") : fmt::format("{}", fmt::join(analysis_keys, ", "))));
-    rc.analysis_given.set(k, spec.problem_params.values().at(k));
-  }
-  rc.problem_params = plugins.problems.resolve(spec.problem, rc.problem_given);
-  rc.analysis_params = plugins.analyses.resolve(rc.analysis, rc.analysis_given);
+  ResolvedCase rc =
+      resolve_problem_and_analysis(plugins, spec.problem, spec.problem_params, spec.analysis);
   rc.method_params = plugins.methods.resolve(spec.method, spec.method_params);
   return rc;
 }
-
 
 std::string analysis_of(const Registries& plugins, const CaseResult& r) {
   if (!r.analysis.empty()) return r.analysis;
@@ -67,15 +78,9 @@ std::string analysis_of(const Registries& plugins, const CaseResult& r) {
 
 Params resolved_case_params(const Registries& plugins, const std::string& problem,
                             const Params& given, const std::string& analysis) {
-  const Params own = problem_own_params(plugins, problem, given);
-  Params all = plugins.problems.resolve(problem, own);
-  const auto p = plugins.problems.create(problem, own);
-  const std::string a = analysis.empty() ? p->analyses().front() : analysis;
-  Params a_given = p->analysis_defaults(a);
-  for (const auto& [k, v] : given.values())
-    if (!own.has(k)) a_given.set(k, v);
-  const Params resolved = plugins.analyses.resolve(a, a_given);
-  for (const auto& [k, v] : resolved.values()) all.set(k, v);
+  const ResolvedCase rc = resolve_problem_and_analysis(plugins, problem, given, analysis);
+  Params all = rc.problem_params;
+  for (const auto& [k, v] : rc.analysis_params.values()) all.set(k, v);
   return all;
 }
 
