@@ -52,7 +52,6 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
     return fmt::format("`{}`: {}; {}", case_label(s), r.method_description,
                        r.data<FigureData>().setup);
   });
-  page.findings = findings_block(catalogue, *problem, section.studies);
 
   std::vector<std::string> keys;
   for (const auto& s : section.studies)
@@ -114,10 +113,7 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
         page.plots += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
     }
   }
-  page.published =
-      published_block(*problem, section.studies,
-                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
-  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
+  return section_page(catalogue, *problem, section, title, std::move(page));
 }
 
 std::string FigureAnalysis::page(const Registries& plugins, const ReportSection& section,

@@ -323,6 +323,16 @@ std::string problem_page(const std::string& title, const std::string& descriptio
   return md;
 }
 
+std::string section_page(const Registries& plugins, const Problem& problem,
+                         const ReportSection& section, const std::string& title,
+                         PageParts page) {
+  page.findings = findings_block(plugins, problem, section.studies);
+  page.published =
+      published_block(problem, section.studies,
+                      resolved_case_params(plugins, section.problem, Params{}, section.analysis));
+  return problem_page(title, plugins.problems.entry(section.problem).description, page);
+}
+
 std::string methods_list(const ReportSection& section,
                          const std::function<std::string(const StudyResult&)>& item) {
   std::string md;
@@ -360,7 +370,6 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
   page.methods = methods_list(section, [](const StudyResult& s) {
     return fmt::format("`{}`: {}", s.label, s.cases.front().method_description);
   });
-  page.findings = findings_block(catalogue, *problem, section.studies);
 
   // Errors and times per resolution; the headline columns are whatever the cases measured.
   std::vector<std::string> headline_names;
@@ -435,10 +444,6 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
                    fmt::format("{} error against h", h1 ? "H1 seminorm" : "L2"), h1 ? "H1" : "L2");
   }
 
-  page.published =
-      published_block(*problem, section.studies,
-                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
-
   // One ParaView collection per study, stepping through the resolutions.
   if (vtk)
     page.vtk =
@@ -447,7 +452,7 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
         "through the resolutions: its time axis is the particle spacing h.\n\n" +
         write_vtk_collections(dir, base, section.studies,
                               {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
-  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
+  return section_page(catalogue, *problem, section, title, std::move(page));
 }
 
 ConvergenceJudgement judge_study(const StudyResult& study,

@@ -97,6 +97,13 @@ struct PageParts {
 /// The page: "# title", the link back to the report, the description, then the parts.
 std::string problem_page(const std::string& title, const std::string& description,
                          const PageParts& parts);
+
+/// A problem's page from the parts an analysis writes: the findings and the published values
+/// (the same blocks for every analysis) are filled in here, then problem_page lays it out
+/// under the problem's description.
+std::string section_page(const Registries& plugins, const Problem& problem,
+                         const ReportSection& section, const std::string& title,
+                         PageParts page);
 /// The methods part: "- `<label>`: <what>" per study (`item` gives label and text, already
 /// joined), then one "**could not run:**" item per failure of the section.
 std::string methods_list(const ReportSection& section,

@@ -76,7 +76,6 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
   page.methods = methods_list(section, [](const StudyResult& s) {
     return fmt::format("`{}`: {}", s.label, s.cases.front().method_description);
   });
-  page.findings = findings_block(catalogue, *problem, section.studies);
 
   // Errors, sizes, solver and times.
   page.errors =
@@ -160,10 +159,6 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
                              energy ? "energy" : "L2");
   }
 
-  page.published =
-      published_block(*problem, section.studies,
-                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
-
   // Particles and quadrature points per resolution, one collection per study.
   if (vtk)
     page.vtk =
@@ -174,7 +169,7 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
         write_vtk_collections(
             dir, base, section.studies,
             {{".vtp", write_particles_vtp}, {"-quadrature.vtp", write_quadrature_vtp}});
-  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
+  return section_page(catalogue, *problem, section, title, std::move(page));
 }
 
 }  // namespace mfv

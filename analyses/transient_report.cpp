@@ -125,7 +125,6 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     return fmt::format("`{}`: {}; {}", s.label, s.cases.front().method_description,
                        s.cases.front().data<TransientData>().dynamics);
   });
-  page.findings = findings_block(catalogue, *problem, section.studies);
 
   // Errors, steps and CPU per case; the headline columns are whatever the problem measured.
   std::set<std::string> keys;
@@ -242,10 +241,6 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   }
   page.plots += "\n";
 
-  page.published =
-      published_block(*problem, section.studies,
-                      resolved_case_params(catalogue, section.problem, Params{}, section.analysis));
-
   if (vtk) {
     page.vtk =
         "A time series per case: particles at their current positions with velocity, "
@@ -269,7 +264,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
       }
     page.vtk += "\n";
   }
-  return problem_page(title, catalogue.problems.entry(section.problem).description, page);
+  return section_page(catalogue, *problem, section, title, std::move(page));
 }
 
 }  // namespace mfv
