@@ -233,6 +233,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   scratch_F_.assign(F_.size(), 0.0);
   const int ns = model_.material->state_size(dim_);
   state_.assign(static_cast<std::size_t>(ns) * nq_, 0.0);
+  model_.material->initial_state(dim_, nq_, state_.data());
   build_force_tables();
   apply_prescribed(0, v_, a_);
   internal_force(u_, Eigen::VectorXd::Zero(m), 0, true, f_int_);

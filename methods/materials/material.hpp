@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "methods/core/registry.hpp"
 
@@ -14,6 +15,14 @@ class Material {
   virtual ~Material() = default;
   /// History variables per point (plastic strain, back stress, ...); 0 for elastic models.
   virtual int state_size(int dim) const { return 0; }
+  /// Sets the history of n points once, after the engine has zero-filled it (state_size(dim)
+  /// values per point, point q at state + q·state_size): e.g. a seeded per-point yield
+  /// imperfection. The default leaves the zeros.
+  virtual void initial_state(int dim, int n, double* state) const {}
+  /// One name per history slot (state_size(dim) names, empty when there is no history). The
+  /// slot named "plastic_strain" is the effective plastic strain ε̄ that outputs and
+  /// shear-band measurements look up by that name.
+  virtual std::vector<std::string> state_names(int dim) const { return {}; }
   /// P of n points. F and P hold dim×dim column-major matrices one after another; state holds
   /// state_size(dim) values per point, updated in place (call once per time step). Called
   /// once per batch of points, never per point, so the virtual call costs nothing.
@@ -30,12 +39,14 @@ using MaterialRegistry = Registry<Material>;
 void register_svk(MaterialRegistry&);
 void register_plastic_1d(MaterialRegistry&);
 void register_hyperelastic(MaterialRegistry&);
+void register_j2_jaumann(MaterialRegistry&);
 
 /// Registers every material: add one line here for a new one.
 inline void register_all_materials(MaterialRegistry& r) {
   register_svk(r);
   register_plastic_1d(r);
   register_hyperelastic(r);
+  register_j2_jaumann(r);
 }
 
 }  // namespace mfv
