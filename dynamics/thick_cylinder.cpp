@@ -140,6 +140,12 @@ AxisymmetricRing::AxisymmetricRing(ThickCylinder cylinder) : cyl_(std::move(cyli
                                  cyl_.density));
   if (!cyl_.material)
     throw InputError("thick cylinder: no material; give one from the material registry");
+  if (!std::isfinite(cyl_.viscosity.alpha) || !std::isfinite(cyl_.viscosity.beta) ||
+      cyl_.viscosity.alpha < 0 || cyl_.viscosity.beta < 0)
+    throw InputError(fmt::format("thick cylinder: artificial viscosity alpha = {}, beta = {} must "
+                                 "be non-negative and finite; give e.g. alpha = 0.5, beta = 1 or "
+                                 "zeros for none",
+                                 cyl_.viscosity.alpha, cyl_.viscosity.beta));
   if (!cyl_.pressure)
     throw InputError("thick cylinder: no pressure history; give p(t), e.g. [](double) { return "
                      "1e6; }");
@@ -167,6 +173,7 @@ AxisymmetricRing::AxisymmetricRing(ThickCylinder cylinder) : cyl_(std::move(cyli
   F_.assign(4 * nq, 0.0);
   P_.assign(4 * nq, 0.0);
   state_.assign(static_cast<std::size_t>(cyl_.material->state_size(2)) * nq, 0.0);
+  cyl_.material->initial_state(2, nq, state_.data());
   compute_forces();
   a_ = ((-f_int_).array() / mass_.array()).matrix();
   a_(0) += f_ext_ / mass_(0);
@@ -203,6 +210,7 @@ void AxisymmetricRing::compute_forces() {
     }
   }
   cyl_.material->first_piola(2, nq, F_.data(), P_.data(), state_.data());
+  if (cyl_.viscosity.enabled()) add_viscosity();
   f_int_.setZero();
   for (int e = 0; e < ne; ++e) {
     const double he = R_(e + 1) - R_(e);
@@ -219,6 +227,27 @@ void AxisymmetricRing::compute_forces() {
     }
   }
   f_ext_ = pressure_at(t_) * inner_radius();
+}
+
+void AxisymmetricRing::add_viscosity() {
+  const double c = cyl_.material->wave_speed(2, cyl_.density);
+  const double alpha = cyl_.viscosity.alpha, beta = cyl_.viscosity.beta;
+  for (int e = 0; e < cyl_.elements; ++e) {
+    const double he = R_(e + 1) - R_(e);
+    for (int g = 0; g < points_per_element; ++g) {
+      const int q = points_per_element * e + g;
+      const double xi = gauss_xi[g];
+      const double lambda_r = F_[4 * q], lambda_t = F_[4 * q + 3], J = lambda_r * lambda_t;
+      const double rate_r = (v_(e + 1) - v_(e)) / he,
+                   rate_t = (0.5 * (1 - xi) * v_(e) + 0.5 * (1 + xi) * v_(e + 1)) / point_R_(q);
+      const double div = rate_r / lambda_r + rate_t / lambda_t;
+      if (div >= 0) continue;
+      const double visc = cyl_.density / J * (beta * he * he * div * div - alpha * c * he * div);
+      // P_v = −q J F⁻ᵀ, diagonal here.
+      P_[4 * q] -= visc * lambda_t;
+      P_[4 * q + 3] -= visc * lambda_r;
+    }
+  }
 }
 
 void AxisymmetricRing::step(double dt) {
@@ -261,7 +290,7 @@ double AxisymmetricRing::critical_time_step() const {
   s = state_;
   cyl_.material->first_piola(2, nq, Ft.data(), Pt.data(), s.data());
 
-  double omega2_max = 0;
+  double dt = std::numeric_limits<double>::infinity();
   for (int e = 0; e < ne; ++e) {
     const double R1 = R_(e), R2 = R_(e + 1), he = R2 - R1;
     Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
@@ -281,19 +310,62 @@ double AxisymmetricRing::critical_time_step() const {
                  m2 = cyl_.density * he * (R1 + 2 * R2) / 6;
     Eigen::Matrix2d A;  // M^{-1/2} K M^{-1/2}
     A << K(0, 0) / m1, K(0, 1) / std::sqrt(m1 * m2), K(1, 0) / std::sqrt(m1 * m2), K(1, 1) / m2;
-    const double tr = A.trace(), det = A.determinant();
-    const double lmax = 0.5 * tr + std::sqrt(std::max(0.25 * tr * tr - det, 0.0));
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> modes(A);
+    const double lmax = modes.eigenvalues()(1);
     if (!std::isfinite(lmax))
       throw SingularError(fmt::format("thick cylinder: the tangent of element {} is not finite at "
                                       "t = {:g} s",
                                       e, t_));
-    omega2_max = std::max(omega2_max, lmax);
+    if (!(lmax > 0)) continue;
+    const double omega = std::sqrt(lmax);
+    // Damped central differences: Δt ≤ (2/ω)(√(1 + ξ²) − ξ), ξ = φᵀ M^{-1/2} C M^{-1/2} φ/(2ω)
+    // the damping ratio of the element's highest mode φ, C = ∫ η B_divᵀ B_div R dR the
+    // viscosity linearized in the velocities, η = (ρ/J)(α c l + 2β l² |∇·v|) (a 1D element
+    // gives ξ ≈ α + 2β l|∇·v|/c).
+    double xi = 0;
+    if (cyl_.viscosity.enabled()) {
+      const double c = cyl_.material->wave_speed(2, cyl_.density);
+      Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+      for (int g = 0; g < points_per_element; ++g) {
+        const int q = points_per_element * e + g;
+        const double gx = gauss_xi[g], lambda_r = F_[4 * q], lambda_t = F_[4 * q + 3];
+        Eigen::RowVector2d b;  // ∂(∇·v)/∂v_i
+        b << -1 / he / lambda_r + 0.5 * (1 - gx) / point_R_(q) / lambda_t,
+            1 / he / lambda_r + 0.5 * (1 + gx) / point_R_(q) / lambda_t;
+        const double div = b(0) * v_(e) + b(1) * v_(e + 1);
+        const double eta = cyl_.density / (lambda_r * lambda_t) *
+                           (cyl_.viscosity.alpha * c * he +
+                            2 * cyl_.viscosity.beta * he * he * std::abs(div));
+        C += point_w_(q) * eta * b.transpose() * b;
+      }
+      const Eigen::Vector2d phi = modes.eigenvectors().col(1);
+      const Eigen::Vector2d phi_m(phi(0) / std::sqrt(m1), phi(1) / std::sqrt(m2));
+      xi = phi_m.dot(C * phi_m) / (2 * omega);
+    }
+    dt = std::min(dt, 2 / omega / (std::sqrt(1 + xi * xi) + xi));
   }
-  if (!(omega2_max > 0))
+  if (!std::isfinite(dt))
     throw SingularError(fmt::format("thick cylinder: the material has no stiffness at t = {:g} s, "
                                     "so no critical time step exists; check its parameters",
                                     t_));
-  return 2 / std::sqrt(omega2_max);
+  return dt;
+}
+
+double AxisymmetricRing::kinematic_time_step(double fraction) const {
+  if (!std::isfinite(fraction) || fraction <= 0 || fraction >= 1)
+    throw InputError(fmt::format("thick cylinder: stretch per step = {} must lie in (0, 1); "
+                                 "give e.g. 0.1 of an element's length per step",
+                                 fraction));
+  double dt = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < cyl_.elements; ++e) {
+    const double length = R_(e + 1) + u_(e + 1) - R_(e) - u_(e);
+    const double dv = std::abs(v_(e + 1) - v_(e)), da = std::abs(a_(e + 1) - a_(e));
+    // The positive root of ½ da dt² + dv dt − fraction·ℓ = 0, written without cancellation.
+    const double reach = fraction * length;
+    const double denominator = dv + std::sqrt(dv * dv + 2 * da * reach);
+    if (denominator > 0) dt = std::min(dt, 2 * reach / denominator);
+  }
+  return dt;
 }
 
 Eigen::VectorXd AxisymmetricRing::point_radii() const {
@@ -322,7 +394,8 @@ double AxisymmetricRing::kinetic_energy() const {
 }
 
 RadiusHistory run_thick_cylinder(const ThickCylinder& cylinder, double end_time, double safety,
-                                 const std::vector<double>& sample_times) {
+                                 const std::vector<double>& sample_times,
+                                 double stretch_per_step) {
   if (!std::isfinite(end_time) || end_time <= 0)
     throw InputError(fmt::format("thick cylinder: end time = {} must be positive and finite",
                                  end_time));
@@ -353,7 +426,15 @@ RadiusHistory run_thick_cylinder(const ThickCylinder& cylinder, double end_time,
   record();
   while (ring.time() < end_time - eps) {
     const double target = next < sample_times.size() ? sample_times[next] : end_time;
-    ring.step(std::min(safety * ring.critical_time_step(), target - ring.time()));
+    const double dt = std::min(
+        {safety * ring.critical_time_step(), ring.kinematic_time_step(stretch_per_step)});
+    // A step collapsing toward zero (an element crushed ever faster, stiffening without bound)
+    // would never reach the end: stop with the time instead of hanging.
+    if (!(dt > 1e-9 * end_time))
+      throw SingularError(fmt::format("thick cylinder: the time step collapsed to {:g} s at t = "
+                                      "{:g} s ({} steps); the load crushes the wall, lower it",
+                                      dt, ring.time(), out.steps));
+    ring.step(std::min(dt, target - ring.time()));
     ++out.steps;
     record();
   }
@@ -369,7 +450,7 @@ RadiusHistory run_thick_cylinder(const ThickCylinder& cylinder, double end_time,
 CylinderConvergence thick_cylinder_convergence(const ThickCylinder& cylinder, double end_time,
                                                double safety,
                                                const std::vector<double>& sample_times,
-                                               int levels) {
+                                               int levels, double stretch_per_step) {
   if (levels < 2 || levels > 12)
     throw InputError(fmt::format("thick cylinder convergence: levels = {} must be between 2 and "
                                  "12 (each level doubles the elements)",
@@ -387,7 +468,7 @@ CylinderConvergence thick_cylinder_convergence(const ThickCylinder& cylinder, do
                                    l, n, max_elements));
     c.elements = static_cast<int>(n);
     try {
-      out.runs.push_back(run_thick_cylinder(c, end_time, safety, sample_times));
+      out.runs.push_back(run_thick_cylinder(c, end_time, safety, sample_times, stretch_per_step));
     } catch (const SingularError& e) {
       throw SingularError(fmt::format("thick cylinder convergence, {} elements: {}", n, e.what()));
     }
