@@ -47,7 +47,7 @@ std::shared_ptr<const Material> steel_j2_perfectly_plastic() {
 /// r_a(0.16 ms) to 2e-4 at 320 elements).
 ThickCylinder rubber_ring(int elements) {
   ThickCylinder c{0.1, 0.2, elements, material("rubber"), 125.4,
-                  [](double t) { return t <= 1e-4 ? 6.2e7 : 0.0; }};
+                  [](double t) { return t <= 1e-4 ? 6.2e7 : 0.0; }, {}};
   c.viscosity.alpha = c.viscosity.beta = 1;
   return c;
 }
@@ -142,7 +142,7 @@ TEST(ThickCylinderClosedForms, BadInputThrowsInputError) {
 // --- The 1D ring ---------------------------------------------------------------------------------
 
 TEST(AxisymmetricRing, BadInputThrowsInputError) {
-  const ThickCylinder good{kA, kB, 10, steel_svk(), kSteelRho, [](double) { return 1e6; }};
+  const ThickCylinder good{kA, kB, 10, steel_svk(), kSteelRho, [](double) { return 1e6; }, {}};
   EXPECT_NO_THROW(AxisymmetricRing{good});
   auto with = [&](auto change) {
     ThickCylinder c = good;
@@ -204,7 +204,7 @@ TEST(AxisymmetricRing, QuasiStaticSvkRingMatchesLame) {
                T = 25 * T0, window = 4 * T0;
   AxisymmetricRing ring({kA, kB, 40, steel_svk(), kSteelRho, [=](double t) {
                            return t < T ? p0 * 0.5 * (1 - std::cos(M_PI * t / T)) : p0;
-                         }});
+                         }, {}});
   const double dt = 0.9 * ring.critical_time_step();
   while (ring.time() < T) ring.step(dt);
   double ua = 0, ub = 0, stt_a = 0, total = 0;
@@ -295,7 +295,7 @@ TEST(AxisymmetricRing, PerfectlyPlasticSteelRingFollowsFirstYieldAndHill) {
   const int eps_slot = slot(*m, "plastic_strain"), ns = m->state_size(2);
   ASSERT_GE(eps_slot, 0);
   const double rate = 2.5e10;
-  AxisymmetricRing ring({kA, kB, 20, m, kSteelRho, [=](double t) { return rate * t; }});
+  AxisymmetricRing ring({kA, kB, 20, m, kSteelRho, [=](double t) { return rate * t; }, {}});
   const int nq = static_cast<int>(ring.state().size()) / ns;
   const Eigen::VectorXd reference_radii = ring.point_radii();
   const double p_y = first_yield_pressure(kYield, kA, kB, kNu),
