@@ -23,6 +23,12 @@ void check_ring(const AnnulusLattice& g) {
     throw InputError(fmt::format(
         "annulus outer radius must be finite and larger than the inner radius {}, got {}",
         g.inner, g.outer));
+  // The volumes square the radii: b² - a² must neither overflow nor vanish.
+  if (!std::isfinite(g.outer * g.outer) || !(g.outer * g.outer - g.inner * g.inner > 0))
+    throw InputError(fmt::format(
+        "annulus outer radius {} with inner radius {}: b² - a² must be a positive finite "
+        "number; rescale the lengths",
+        g.outer, g.inner));
   if (g.radial < 2)
     throw InputError(fmt::format(
         "annulus radial count must be >= 2 (both surfaces carry particles), got {}", g.radial));

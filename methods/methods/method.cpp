@@ -62,8 +62,8 @@ ShapeTable Discretization::test_on(const IntegrationRule& b) const {
 
 namespace {
 
-/// What every method does first: dilations (a fixed one, or a multiple of the spacing), the
-/// integration rule and the recipe's boundary treatment.
+/// What every method does first: dilations (a fixed one, or a multiple of the spacing or of
+/// each particle's local spacing), the integration rule and the recipe's boundary treatment.
 Discretization prepare(const Domain& domain, ParticleSet& particles,
                        const std::shared_ptr<const IntegrationScheme>& integration,
                        double dilation, double over_spacing, EssentialBC essential, double penalty,
