@@ -205,6 +205,21 @@ TEST(RingParticles, BoundaryRulesAreRefused) {
                InputError);
 }
 
+TEST(RingParticles, InvertedQuadsAndMismatchedSpacingsAreRefused) {
+  const auto g = ring(1, 2, 5, 24);
+  ParticleSet p = annulus_lattice(g);
+  std::swap(p.quads[3][1], p.quads[3][3]);  // clockwise
+  try {
+    test_catalogue().integrations.create("gauss-cells")->rule(box_of(g), p);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("quadrilateral cell 3"), std::string::npos) << e.what();
+  }
+  ParticleSet q = annulus_lattice(g);
+  q.local_spacing.conservativeResize(q.size() - 1);
+  EXPECT_THROW(test_catalogue().methods.create("efg")->discretize(box_of(g), q, 1), InputError);
+}
+
 TEST(RingParticles, JitterIsSeededBoundedAndKeepsSurfaces) {
   const double a = 1, b = 2, jitter = 0.3;
   const int nr = 6, nt = 40;
