@@ -127,6 +127,12 @@ CellLayout cell_layout(const Domain& d, const ParticleSet& p, int cells, int nq)
           "the particle set supplies its own {} quadrilateral cells (e.g. an annulus), which a "
           "background grid of cells = {} cannot follow; leave cells = 0",
           p.quads.size(), cells));
+    for (std::size_t k = 0; k < p.quads.size(); ++k)
+      for (int J : p.quads[k])
+        if (J < 0 || J >= p.size())
+          throw InputError(fmt::format("quadrilateral cell {} names particle {}, but the set "
+                                       "has particles 0..{}; fix ParticleSet::quads",
+                                       k, J, p.size() - 1));
     c.quads = c.explicit_quads = true;
     c.cx = static_cast<int>(p.quads.size());
     c.cy = 1;
