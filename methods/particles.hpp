@@ -1,6 +1,8 @@
 /// Particle sets: positions, integration volumes (Voronoi cells) and dilations (support sizes).
 #pragma once
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -28,6 +30,14 @@ enum class Placement {
   inset      ///< half a spacing inside (Fig. 4a): all volumes equal
 };
 
+/// Stress points and the volumes of 001 eq 65: one Voronoi diagram of particles and stress
+/// points together, so Σ particle_volume + Σ volume = the domain's measure.
+struct StressPoints {
+  Eigen::MatrixXd x;                  ///< dim × N_S positions
+  Eigen::VectorXd volume;             ///< V^SP of each stress point
+  Eigen::VectorXd particle_volume;    ///< V^P of each particle in the joint diagram
+};
+
 struct ParticleSet {
   int dim = 1;
   Eigen::MatrixXd x;          ///< dim × N positions
@@ -45,6 +55,17 @@ struct ParticleSet {
   /// Bits of Side: the particle lies on (Placement::boundary) or is the layer nearest to
   /// (Placement::inset) that side of the domain.
   std::vector<unsigned> sides;
+  /// Explicit quadrilateral cells of a structured lattice that is not a rectangle (an
+  /// annulus): four particle indices each, counter-clockwise. Gauss cells integrate over them
+  /// with the bilinear map (001 eqs 67-68). Empty for rectangle lattices, whose cells follow
+  /// from `lattice`.
+  std::vector<std::array<int, 4>> quads;
+  /// Stress points built with the set, for domains make_stress_points cannot cut from a
+  /// rectangle (an annulus); null: stress-point integration builds them from the lattice.
+  std::shared_ptr<const StressPoints> stress_points;
+  /// Lattice spacing at each particle when it varies over the set (an annulus: Δr or r Δθ),
+  /// so dilations follow the local spacing; empty: `spacing` for every particle.
+  Eigen::VectorXd local_spacing;
 
   int size() const { return static_cast<int>(x.cols()); }
 };
@@ -75,13 +96,28 @@ enum class StressPointLayout {
   triangle_centres  ///< two per quadrilateral: centroids of the triangles of its diagonal split
 };
 
-/// Stress points and the volumes of 001 eq 65: one Voronoi diagram of particles and stress
-/// points together, so Σ particle_volume + Σ volume = the domain's measure.
-struct StressPoints {
-  Eigen::MatrixXd x;                  ///< dim × N_S positions
-  Eigen::VectorXd volume;             ///< V^SP of each stress point
-  Eigen::VectorXd particle_volume;    ///< V^P of each particle in the joint diagram
+/// A polar lattice on the annulus inner ≤ r ≤ outer (the ring of the catalogue): `radial`
+/// rings of `circumferential` particles each, surfaces included.
+struct AnnulusLattice {
+  double inner = 0, outer = 0;  ///< radii a < b
+  int radial = 0;               ///< n_r ≥ 2 rings, r_i = a + i (b - a)/(n_r - 1)
+  int circumferential = 0;      ///< n_θ ≥ 3 particles per ring, θ_j = 2π j / n_θ
+  /// Uniform random offsets of ±jitter·Δr in r and ±jitter·r_i Δθ along the ring, in [0, 0.5)
+  /// so particles keep their lattice order; surface particles move only along their circle.
+  double jitter = 0;
+  std::uint64_t seed = 1;  ///< std::mt19937_64 seed of the jitter (reproducible)
 };
+
+/// The particles of an AnnulusLattice, J = j + n_θ i (circumferential fastest; ring i = 0 is
+/// the inner surface, counter-clockwise). Volumes are the exact polar cells
+/// ΔV = (Δθ/2)(r_{i+½}² - r_{i-½}²), r_{-½} = a, r_{n_r-½} = b (half cells on the surfaces),
+/// summing to π(b² - a²); `quads` are the n_θ (n_r - 1) polar cells (i,j), (i+1,j),
+/// (i+1,j+1), (i,j+1) (counter-clockwise, j + 1 wrapping round to 0), index j + n_θ i; `stress_points` sit at the polar cell centres with
+/// the quad-centre split of the joint Voronoi diagram (cell area A_c: A_c/2 to its stress
+/// point, A_c/8 to each corner particle); local_spacing = max(Δr, r_i Δθ). Jittered sets keep
+/// the volumes and stress points of the unjittered lattice. `lattice` stays zero and `sides`
+/// 0: the set has no box sides. Bad input throws InputError naming the field.
+ParticleSet annulus_lattice(const AnnulusLattice& ring);
 
 /// Stress points of a lattice particle set (1D: interval midpoints; 2D: as `layout` says).
 StressPoints make_stress_points(const ParticleSet& particles, const Domain& domain,

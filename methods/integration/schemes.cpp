@@ -91,10 +91,28 @@ bool is_lattice(const ParticleSet& p) {
   return p.lattice[0] >= 2 && p.lattice[1] >= 2 && p.lattice[0] * p.lattice[1] == p.size();
 }
 
-/// The cells of a 2D gauss-cells rule (001 §5.3): the lattice quadrilaterals, or a uniform
-/// background grid on the domain's box; cell k = i + cx·j.
+/// The set carries its own cells or stress points (an annulus) and no box sides, so no rule
+/// on a side of the domain's box applies.
+bool sideless(const ParticleSet& p) {
+  if (p.quads.empty() && !p.stress_points) return false;
+  return std::all_of(p.sides.begin(), p.sides.end(), [](unsigned s) { return s == 0; });
+}
+
+void refuse_sideless(const ParticleSet& p, int side) {
+  if (sideless(p))
+    throw InputError(fmt::format(
+        "the particle set has no box sides (it supplies its own cells, e.g. an annulus), so "
+        "there is no boundary rule on side {}; load its surfaces with a follower pressure from "
+        "the problem instead of tractions on box sides",
+        side));
+}
+
+/// The cells of a 2D gauss-cells rule (001 §5.3): the lattice quadrilaterals, the set's own
+/// quadrilaterals (ParticleSet::quads, cx of them in one row), or a uniform background grid on
+/// the domain's box; cell k = i + cx·j.
 struct CellLayout {
   bool quads = false;
+  bool explicit_quads = false;  ///< the quads are ParticleSet::quads, not lattice cells
   int cx = 0, cy = 0;
   Eigen::Vector2d origin, h;  ///< background grid only
   std::vector<int> n;         ///< Gauss points per direction of each cell
@@ -102,6 +120,26 @@ struct CellLayout {
 
 CellLayout cell_layout(const Domain& d, const ParticleSet& p, int cells, int nq) {
   CellLayout c;
+  if (!p.quads.empty()) {
+    // A background grid over the box would put points outside a non-rectangular domain.
+    if (cells > 0)
+      throw InputError(fmt::format(
+          "the particle set supplies its own {} quadrilateral cells (e.g. an annulus), which a "
+          "background grid of cells = {} cannot follow; leave cells = 0",
+          p.quads.size(), cells));
+    for (std::size_t k = 0; k < p.quads.size(); ++k)
+      for (int J : p.quads[k])
+        if (J < 0 || J >= p.size())
+          throw InputError(fmt::format("quadrilateral cell {} names particle {}, but the set "
+                                       "has particles 0..{}; fix ParticleSet::quads",
+                                       k, J, p.size() - 1));
+    c.quads = c.explicit_quads = true;
+    c.cx = static_cast<int>(p.quads.size());
+    c.cy = 1;
+    // Each cell holds about one particle, as a lattice cell does: m = 1, n_Q = 3.
+    c.n.assign(p.quads.size(), nq > 0 ? nq : eq66_points(1));
+    return c;
+  }
   const double lx = d.upper[0] - d.lower[0], ly = d.upper[1] - d.lower[1];
   // Hexagonal lattices have parallelogram quads: they get a background grid.
   if (cells == 0 && p.placement == Placement::boundary && is_lattice(p) && !p.hexagonal) {
@@ -169,8 +207,10 @@ IntegrationRule gauss_cells_2d(const ParticleSet& p, const CellLayout& c) {
       if (c.quads) {
         // 001 eqs 67-68: the bilinear map of [-1,1]² onto the quadrilateral, weights w_a w_b det J.
         const int nx = c.cx + 1;
-        const std::array<int, 4> node{i + nx * j, i + 1 + nx * j, i + 1 + nx * (j + 1),
-                                      i + nx * (j + 1)};
+        const std::array<int, 4> node =
+            c.explicit_quads ? p.quads[k]
+                             : std::array<int, 4>{i + nx * j, i + 1 + nx * j,
+                                                  i + 1 + nx * (j + 1), i + nx * (j + 1)};
         gauss_legendre(n, -1, 1, gx, wx);
         for (int b = 0; b < n; ++b)
           for (int a = 0; a < n; ++a, ++q) {
@@ -183,6 +223,11 @@ IntegrationRule gauss_cells_2d(const ParticleSet& p, const CellLayout& c) {
               J.col(1) += deta[v] * p.x.col(node[v]);
             }
             const double det = J.determinant();
+            if (!(det > 0) && c.explicit_quads)
+              throw InputError(fmt::format(
+                  "quadrilateral cell {} with particles {}, {}, {}, {} is inverted or "
+                  "degenerate; lower the jitter or list its corners counter-clockwise",
+                  k, node[0], node[1], node[2], node[3]));
             if (!(det > 0))
               throw InputError(fmt::format(
                   "lattice cell ({}, {}) with particles {}, {}, {}, {} is inverted or "
@@ -300,6 +345,7 @@ class GaussCells final : public IntegrationScheme {
     check_dimension(d, p);
     check_side(d, side);
     if (p.dim == 1) return nodal_boundary_rule(d, p, side);
+    refuse_sideless(p, side);
     return gauss_cells_boundary_2d(d, p, cell_layout(d, p, cells_, nq_), side);
   }
 
@@ -317,7 +363,17 @@ class StressPointIntegration final : public IntegrationScheme {
     // 001 eqs 64-65, 000 eq 3.19: the particles, then the stress points (1D: the interval
     // midpoints), each weighted by its cell of the joint Voronoi diagram; `cell` is the
     // particle, then the stress point's index.
-    const StressPoints s = make_stress_points(p, d, layout_);
+    if (p.stress_points && layout_ == StressPointLayout::triangle_centres)
+      throw InputError(
+          "the particle set supplies quad-centre stress points (e.g. an annulus), so the "
+          "triangle-centres layout cannot apply; use layout=quad-centres");
+    const StressPoints s = p.stress_points ? *p.stress_points : make_stress_points(p, d, layout_);
+    if (s.particle_volume.size() != p.size() || s.volume.size() != s.x.cols() ||
+        s.x.rows() != p.dim)
+      throw InputError(fmt::format(
+          "the set's stress points do not match it: {} particle volumes for {} particles, {} "
+          "volumes for {} {}D stress points",
+          s.particle_volume.size(), p.size(), s.volume.size(), s.x.cols(), s.x.rows()));
     const int n = p.size(), ns = static_cast<int>(s.x.cols());
     r.points.resize(p.dim, n + ns);
     r.points << p.x, s.x;
@@ -344,6 +400,7 @@ IntegrationRule nodal_boundary_rule(const Domain& domain, const ParticleSet& p, 
   check_dimension(domain, p);
   check_side(domain, side);
   if (p.size() == 0) throw InputError("a boundary rule needs particles, got none");
+  if (p.dim == 2) refuse_sideless(p, side);
   IntegrationRule r;
   r.kind = "nodal-boundary";
   r.cells = 1;
@@ -399,7 +456,8 @@ void register_nodal(IntegrationRegistry& r) {
 void register_gauss_cells(IntegrationRegistry& r) {
   r.add("gauss-cells",
         "Gauss-Legendre cells (001 §5.3): 1D between neighbouring particles or a uniform grid; "
-        "2D the lattice quadrilaterals (boundary placement, eqs 67-68) or a background grid",
+        "2D the lattice quadrilaterals (boundary placement, eqs 67-68), the set's own "
+        "quadrilaterals (an annulus) or a background grid",
         {capped(ParamSpec::count("n", 10, 1, "1D: Gauss points per cell (2D uses nq; at most 64)"),
                 64),
          capped(ParamSpec::count("cells", 0, 0,

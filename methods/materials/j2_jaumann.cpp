@@ -181,9 +181,11 @@ void register_j2_jaumann(MaterialRegistry& r) {
                                          "give a Poisson's ratio such as 0.3",
                                          nu));
           const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-          if (!std::isfinite(lambda + 2 * mu))
-            throw InputError(fmt::format("material 'j2-jaumann': E = {} overflows the elastic "
-                                         "moduli; give E in Pa, e.g. 2e11",
+          // σ̄ = √(3/2 τ':τ') squares stresses of the size of the moduli: that must not overflow.
+          if (!std::isfinite(9 * (lambda + 2 * mu) * (lambda + 2 * mu)))
+            throw InputError(fmt::format("material 'j2-jaumann': E = {} is too large (stresses "
+                                         "of that size overflow when squared); give E in Pa, "
+                                         "e.g. 2e11",
                                          E));
           if (3 * mu + H <= 0)
             throw InputError(fmt::format(

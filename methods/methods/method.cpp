@@ -62,13 +62,22 @@ ShapeTable Discretization::test_on(const IntegrationRule& b) const {
 
 namespace {
 
-/// What every method does first: dilations (a fixed one, or a multiple of the spacing), the
-/// integration rule and the recipe's boundary treatment.
+/// What every method does first: dilations (a fixed one, or a multiple of the spacing or of
+/// each particle's local spacing), the integration rule and the recipe's boundary treatment.
 Discretization prepare(const Domain& domain, ParticleSet& particles,
                        const std::shared_ptr<const IntegrationScheme>& integration,
                        double dilation, double over_spacing, EssentialBC essential, double penalty,
                        const std::string& description) {
-  particles.dilation.setConstant(dilation > 0 ? dilation : over_spacing * particles.spacing);
+  if (dilation <= 0 && particles.local_spacing.size() > 0) {
+    // A set whose spacing varies (an annulus: Δr or r Δθ) scales each support by its own.
+    if (particles.local_spacing.size() != particles.size())
+      throw InputError(fmt::format("the particle set has {} local spacings for {} particles; "
+                                   "give one per particle or none",
+                                   particles.local_spacing.size(), particles.size()));
+    particles.dilation = over_spacing * particles.local_spacing;
+  } else {
+    particles.dilation.setConstant(dilation > 0 ? dilation : over_spacing * particles.spacing);
+  }
   Discretization d;
   d.domain = domain;
   d.integration = integration;
