@@ -16,6 +16,7 @@
 
 #include "methods/core/params.hpp"
 #include "problems/error_norms.hpp"
+#include "problems/profile.hpp"
 
 namespace mfv {
 
@@ -111,6 +112,8 @@ struct TransientData : AnalysisResult {
     std::vector<std::pair<std::string, Eigen::MatrixXd>> data;
   };
   std::vector<Frame> frames;
+  /// The problem's curves over space (TransientMeasures::Profile), plotted across studies.
+  std::vector<Profile> profiles;
   /// Set when the run was found unstable (analyses/transient.hpp states the criteria): the
   /// step and time at which it was detected and why. The run stops there (a problem's own
   /// criterion may let it run on to its cap); checkpoints after it are not reached.

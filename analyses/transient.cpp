@@ -141,6 +141,13 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   auto mark_unstable = [&](long s, std::string why) {
     if (!td.instability) td.instability = TransientData::Instability{s, sim.time(), std::move(why)};
   };
+  // The loop's CPU time is recorded however the loop ends (a collapsed particle arrangement
+  // throws out of a step).
+  struct LoopClock {
+    CaseResult& r;
+    double t0;
+    ~LoopClock() { r.cpu.solve = cpu_seconds() - t0; }
+  } loop_clock{r, t0};
   for (long s = 1; s <= steps; ++s) {
     sim.step(dt);
     done = s;
@@ -178,7 +185,6 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     if (plan.stop && plan.stop(sim)) break;
   }
   bar.finish();
-  r.cpu.solve = cpu_seconds() - t0;
   td.steps = done;
   td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;
@@ -201,7 +207,7 @@ class TransientAnalysis final : public Analysis {
     TransientData& td = r.emplace<TransientData>();
     const double t0 = cpu_seconds();
     TransientDefinition def = problem.define(
-        d, TransientInputs{c.plugins.materials, c.spec.method, r.method_params, c.spec.nodes});
+        d, TransientInputs{c.plugins.materials, c.spec.method, r.method_params, c.spec.nodes, p_});
     ExplicitDynamics sim(c.method, std::move(d), std::move(def.model), dynamics_options(p_));
     if (def.initial_velocity.size() > 0) sim.set_particle_velocity(def.initial_velocity);
     StepChoice step = choose_step(sim, p_);
@@ -235,6 +241,7 @@ class TransientAnalysis final : public Analysis {
     if (def.finish) def.finish(sim, out, m);
     r.errors = m.errors;
     r.errors_paper = r.errors;
+    td.profiles = std::move(m.profiles);
     for (auto& [k, v] : m.headline) r.headline[k] = v;
   }
 

@@ -3,6 +3,7 @@
 /// history CSV files, published values and ParaView time series.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -111,6 +112,41 @@ std::string frame_comparison(const std::vector<StudyResult>& studies) {
     }
   if (md.empty()) return md;
   return "### Lagrangian and Eulerian kernels\n\n" + md + "\n";
+}
+
+/// The problems' curves over space (TransientMeasures::Profile) of the finest case of each
+/// study, one plot per title with every study's curves overlaid ("<study>: <curve>").
+std::string profile_plots(const std::vector<StudyResult>& studies, const fs::path& dir,
+                          const std::string& base) {
+  std::vector<std::string> titles;
+  std::map<std::string, PlotSpec> specs;
+  for (const auto& s : studies) {
+    if (s.cases.empty()) continue;
+    for (const auto& p : s.cases.back().data<TransientData>().profiles) {
+      auto [it, fresh] = specs.try_emplace(p.title);
+      if (fresh) {
+        titles.push_back(p.title);
+        it->second.title = p.title;
+        it->second.xlabel = p.xlabel;
+        it->second.ylabel = p.ylabel;
+        it->second.style = "lines";
+        it->second.auto_logy = false;
+      }
+      for (std::size_t c = 0; c < p.labels.size() && c < p.x.size() && c < p.y.size(); ++c)
+        it->second.series.push_back({s.label + ": " + p.labels[c], p.x[c], p.y[c]});
+    }
+  }
+  if (titles.empty()) return "";
+  std::string md = "### Profiles\n\nCurves over space at the end of the finest case of each "
+                   "study, overlaid across studies.\n\n";
+  for (std::size_t i = 0; i < titles.size(); ++i) {
+    const std::string file = fmt::format("plots/{}-profile{}.svg", base, i + 1);
+    if (const auto why = write_svg_plot(dir / file, specs[titles[i]]))
+      md += fmt::format("- {}: no plot ({})\n", titles[i], *why);
+    else
+      md += fmt::format("![{}]({}{})\n\n", titles[i], kPageUp, file);
+  }
+  return md + "\n";
 }
 
 }  // namespace
@@ -240,6 +276,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     page.plots += "\n";
   }
   page.plots += "\n";
+  page.plots += profile_plots(section.studies, dir, base);
 
   if (vtk) {
     page.vtk =

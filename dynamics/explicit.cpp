@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -219,6 +220,18 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
                                    "the {} particles × {} components",
                                    p.particle, p.component, n_, dim_));
   }
+  for (const FollowerPressure& fp : model_.follower_pressures) {
+    if (dim_ != 2)
+      throw InputError(fmt::format("a follower pressure needs a 2D model, this one is {}D", dim_));
+    if (fp.loop.size() < 3 || !fp.pressure)
+      throw InputError(fmt::format("a follower pressure needs a closed loop of at least 3 "
+                                   "particles and a pressure law (got {} particles{})",
+                                   fp.loop.size(), fp.pressure ? "" : ", no law"));
+    for (int I : fp.loop)
+      if (I < 0 || I >= n_)
+        throw InputError(fmt::format("follower pressure particle {} is outside the {} particles",
+                                     I, n_));
+  }
   X_ = d_.particles.x;
   Xq_ = d_.quadrature.points;
   V0_ = d_.particles.volume;
@@ -303,6 +316,72 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
 void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
   f.setZero(dim_ * n_);
   if (model_.external_force) model_.external_force(t, f);
+  for (const FollowerPressure& fp : model_.follower_pressures) {
+    const double p = fp.pressure(t);
+    if (p == 0) continue;
+    const Eigen::MatrixXd x = positions_of(fp.loop);
+    const int m = static_cast<int>(fp.loop.size());
+    for (int k = 0; k < m; ++k) {
+      const Eigen::Vector2d d = x.col((k + 1) % m) - x.col((k + m - 1) % m);
+      const Eigen::Vector2d force = 0.5 * p * Eigen::Vector2d(d.y(), -d.x());
+      const int I = fp.loop[k];
+      if (d_.particle_values) {
+        f.segment<2>(2 * I) += force;
+        continue;
+      }
+      const ShapeTable& tv = values_at_particles_;
+      for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
+        f.segment<2>(2 * tv.index[e]) += tv.value[e] * force;
+    }
+  }
+}
+
+Eigen::MatrixXd ExplicitDynamics::positions_of(const std::vector<int>& particles) const {
+  Eigen::MatrixXd x(dim_, static_cast<Eigen::Index>(particles.size()));
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    const int I = particles[k];
+    x.col(k) = X_.col(I);
+    if (d_.particle_values) {
+      x.col(k) += u_.segment(dim_ * I, dim_);
+      continue;
+    }
+    const ShapeTable& tv = values_at_particles_;
+    for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
+      x.col(k) += tv.value[e] * u_.segment(dim_ * tv.index[e], dim_);
+  }
+  return x;
+}
+
+double ExplicitDynamics::min_jacobian() const {
+  const int dd = dim_ * dim_;
+  double j = std::numeric_limits<double>::infinity();
+  for (int q = 0; q < nq_; ++q) {
+    const double* F = F_.data() + dd * q;
+    j = std::min(j, dim_ == 1 ? F[0] : F[0] * F[3] - F[1] * F[2]);
+  }
+  return j;
+}
+
+Eigen::VectorXi ExplicitDynamics::point_neighbours() const {
+  const ShapeTable& t = d_.trial_q;
+  Eigen::VectorXi n(nq_);
+  for (int q = 0; q < nq_; ++q) n[q] = t.offsets[q + 1] - t.offsets[q];
+  return n;
+}
+
+int ExplicitDynamics::min_neighbours() const {
+  return nq_ > 0 ? point_neighbours().minCoeff() : 0;
+}
+
+Eigen::VectorXd ExplicitDynamics::point_state(const std::string& name) const {
+  const std::vector<std::string> names = model_.material->state_names(dim_);
+  const int ns = model_.material->state_size(dim_);
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end() || ns == 0) return {};
+  const int slot = static_cast<int>(it - names.begin());
+  Eigen::VectorXd v(nq_);
+  for (int q = 0; q < nq_; ++q) v[q] = state_[static_cast<std::size_t>(ns) * q + slot];
+  return v;
 }
 
 void ExplicitDynamics::apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const {

@@ -53,6 +53,17 @@ struct PrescribedVelocity {
   double until = 1e300;
 };
 
+/// A pressure on a closed surface that follows the deformation (the rings' inner surface, 000
+/// §5.2–5.3): the surface is the polygon of its particles' current positions, and particle I
+/// gets f_I = p(t) ℓ_I n_I, ℓ_I n_I = ½ R₋₉₀(x_{I+1} − x_{I−1}) (half of each adjacent edge's
+/// length times its normal). For a loop that runs counter-clockwise around the loaded hole the
+/// force points away from the hole, into the material. Methods whose unknowns are not the
+/// particle values get Σ_I N_J(X_I) f_I (the nodal rule of the surface integral ∫ N_J p n dΓ).
+struct FollowerPressure {
+  std::vector<int> loop;                     ///< the surface's particles, in order (≥ 3)
+  std::function<double(double t)> pressure;  ///< p(t), positive pushing into the material
+};
+
 /// What a problem supplies besides the discretization.
 struct DynamicsModel {
   std::shared_ptr<const Material> material;
@@ -62,6 +73,7 @@ struct DynamicsModel {
   std::vector<PrescribedVelocity> prescribed;
   /// External forces at time t into f (dim·N, interleaved), which arrives zeroed; optional.
   std::function<void(double t, Eigen::VectorXd& f)> external_force;
+  std::vector<FollowerPressure> follower_pressures;  ///< 2D only
 };
 
 /// How the particle masses are allocated (001 §6).
@@ -135,6 +147,18 @@ class ExplicitDynamics {
   Eigen::MatrixXd particle_cauchy_stress() const;
   double kinetic_energy() const;
   std::string description() const;
+  /// The smallest det F over the integration points: ≤ 0 means a point has inverted.
+  double min_jacobian() const;
+  /// Neighbours (trial-table entries) of each integration point, and their minimum: an
+  /// Eulerian kernel's supports empty as the particles separate.
+  Eigen::VectorXi point_neighbours() const;
+  int min_neighbours() const;
+  /// The material history slot called `name` (Material::state_names) at every integration
+  /// point; empty when the material has no such slot.
+  Eigen::VectorXd point_state(const std::string& name) const;
+  const Material& material() const { return *model_.material; }
+  /// The current positions of the particles of `loop` (follower surfaces, measurements).
+  Eigen::MatrixXd positions_of(const std::vector<int>& particles) const;
 
  private:
   void build_force_tables();

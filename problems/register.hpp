@@ -15,6 +15,7 @@ void register_dispersion(ProblemRegistry&);
 void register_time_step(ProblemRegistry&);
 void register_enriched_bar(ProblemRegistry&);
 void register_stretch_map(ProblemRegistry&);
+void register_rings(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -29,6 +30,7 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_time_step(r);
   register_enriched_bar(r);
   register_stretch_map(r);
+  register_rings(r);
 }
 
 }  // namespace mfv

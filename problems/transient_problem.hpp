@@ -12,6 +12,7 @@
 #include "dynamics/explicit.hpp"
 #include "methods/materials/material.hpp"
 #include "problems/error_norms.hpp"
+#include "problems/profile.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -21,6 +22,7 @@ namespace mfv {
 struct TransientMeasures {
   ErrorNorms errors = ErrorNorms::not_measured();
   std::map<std::string, double> headline;
+  std::vector<Profile> profiles;  ///< curves over space (problems/profile.hpp)
 };
 
 /// How a run went, for the problem's closing measurements.
@@ -40,6 +42,7 @@ struct TransientInputs {
   std::string method;    ///< registered name
   Params method_params;  ///< resolved
   int nodes = 0;
+  Params dynamics;       ///< the transient analysis's parameters, resolved (safety, frame ...)
 };
 
 /// One transient case as the problem defines it. Callbacks may keep state between calls
