@@ -237,6 +237,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   V0_ = d_.particles.volume;
   w0_ = d_.quadrature.weights;
   if (!d_.particle_values) values_at_particles_ = d_.trial_at(X_, 0);
+  if (opt_.frame == KernelFrame::eulerian) values_at_points0_ = d_.trial_q;
   const int dd = dim_ * dim_;
   F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
   for (int q = 0; q < nq_; ++q)
@@ -545,7 +546,10 @@ void ExplicitDynamics::retabulate() {
   const int nodal = d_.quadrature.nodal_points;
   for (int I = 0; I < std::min(n_, nodal); ++I) V[I] *= jac(I);
   Eigen::MatrixXd xq = Xq_;
-  const ShapeTable& t = d_.trial_q;
+  // The points move with the material: the t = 0 values place them at X_q + u^h(X_q). (The
+  // current table would evaluate u at the point's current position with the current
+  // supports, a lagged estimate that loses stress points under large strain.)
+  const ShapeTable& t = values_at_points0_;
   const bool values = static_cast<int>(t.value.size()) == t.entries();
   for (int q = 0; q < nq_; ++q) {
     if (q < nodal) {

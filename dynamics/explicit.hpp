@@ -190,6 +190,9 @@ class ExplicitDynamics {
   Eigen::MatrixXd X_, Xq_;
   Eigen::VectorXd V0_, w0_;
   ShapeTable values_at_particles_;  ///< N_J(X_I), for fields at the particles
+  /// Eulerian kernel: the trial values at the integration points at t = 0, N_J(X_q), which
+  /// carry a point that is not a particle with the material: x_q = X_q + Σ_J N_J(X_q) u_J.
+  ShapeTable values_at_points0_;
   // Transposed test table with the reference weights folded in: for particle I the entries
   // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
   std::vector<int> tt_offsets_, tt_point_;
