@@ -162,6 +162,36 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                        s.cases.front().data<TransientData>().dynamics);
   });
 
+  // The problem's chosen quantities side by side, one row per study (its finest case).
+  std::string side_by_side;
+  if (const std::vector<std::string> keys = problem->comparison_headlines(); !keys.empty()) {
+    std::vector<std::string> head = {"study", "kernel", "particles", "integration points", "run"};
+    for (const auto& k : keys) head.push_back(k);
+    head.push_back("particle-steps/s");
+    std::vector<char> align(head.size(), 'r');
+    align[0] = align[1] = align[4] = 'l';
+    MarkdownTable t(head, align);
+    for (const auto& s : section.studies) {
+      if (s.cases.empty()) continue;
+      const CaseResult& r = s.cases.back();
+      const TransientData& d = r.data<TransientData>();
+      const CaseSpec& c = r.spec;
+      std::vector<std::string> row = {
+          s.label, c.problem_params.has("frame") ? c.problem_params.text("frame") : "lagrangian",
+          std::to_string(r.particles), std::to_string(r.quadrature_points), fmt_run(d)};
+      for (const auto& k : keys) {
+        const auto it = r.headline.find(k);
+        row.push_back(it == r.headline.end() ? "–" : fmt_headline(k, it->second, d));
+      }
+      row.push_back(r.cpu.solve > 0 ? fmt_sci(r.particles * double(d.steps) / r.cpu.solve, 2)
+                                    : "–");
+      t.add_row(row);
+    }
+    side_by_side = "**Side by side** (the finest case of each study; every measured value is "
+                   "in the table below).\n\n" +
+                   t.str() + "\n";
+  }
+
   // Errors, steps and CPU per case; the headline columns are whatever the problem measured.
   std::set<std::string> keys;
   for (const auto& s : section.studies)
@@ -173,6 +203,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
       "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
       "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
       "step) and the time loop; particle-steps/s from the loop's CPU time.\n\n";
+  page.errors = side_by_side + page.errors;
   {
     std::vector<std::string> head = {"method", problem->resolution_name(), "particles",
                                       "stress pts", "quad pts", "dt", "dt/crit", "steps", "run"};

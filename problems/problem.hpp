@@ -109,6 +109,9 @@ class Problem {
   virtual std::string resolution_name() const { return "nodes"; }
   /// Published qualitative findings, each with the check that gives our verdict.
   virtual std::vector<Finding> findings() const { return {}; }
+  /// Headline quantities the report compares side by side in one compact table, one row per
+  /// study, before the table of everything measured (empty: no such table).
+  virtual std::vector<std::string> comparison_headlines() const { return {}; }
   /// Exact values of the headline quantities (for the reports).
   virtual std::map<std::string, double> headline_exact() const { return {}; }
   virtual std::vector<PublishedValue> published() const { return {}; }

@@ -124,7 +124,8 @@ INSTANTIATE_TEST_SUITE_P(EveryMethod, RingsByName, ::testing::ValuesIn(registere
                          [](const auto& info) { return test_name(info.param); });
 
 TEST(Rings, BadParametersAreInputErrors) {
-  for (const char* bad : {"radial=7", "jitter=0.7", "load=none", "pressure=-1", "end_time=nan"}) {
+  for (const char* bad : {"radial=7", "jitter=0.7", "load=none", "pressure=-1", "end_time=nan",
+                          "end_time=-1", "reference_elements=100000", "jitter=-0.1"}) {
     CaseSpec s;
     s.problem = "rubber-ring";
     s.method = "sph";
@@ -137,6 +138,11 @@ TEST(Rings, BadParametersAreInputErrors) {
   s.method = "sph";
   s.nodes = 1051;  // prime: no polar lattice
   EXPECT_THROW(run_case(test_catalogue(), s), InputError);
+  for (const char* bad : {"yield=-1", "imperfection=1", "hardening=-1e12", "hardening=nan"}) {
+    s.nodes = 150;
+    s.problem_params = Params::parse(std::string(bad) + ",frames=0");
+    EXPECT_THROW(run_case(test_catalogue(), s), InputError) << bad;
+  }
 }
 
 }  // namespace
