@@ -43,6 +43,8 @@ constexpr double kClusterOnset = 2.0;
 /// The largest fraction of the smallest lattice spacing the inner surface may travel in one
 /// step (at the 1D reference's peak speed).
 constexpr double kStepTravel = 0.01;
+/// The most steps the 1D reference may take (the paper loads need at most a few 10⁴).
+constexpr long kReferenceSteps = 500'000;
 /// ε̄ above which a point counts as yielded (first yield).
 constexpr double kYieldStrain = 1e-6;
 /// Coefficient of variation std/mean of ε̄ on the inner row above which the bands have set
@@ -131,8 +133,17 @@ RunOfReference run_reference(const ThickCylinder& tc, double end_time,
     }
   };
   record();
+  // The unloaded ring's step bounds the count from below: refuse at once what cannot finish.
+  if (end_time / (0.4 * ring.critical_time_step()) > static_cast<double>(kReferenceSteps))
+    throw InputError(fmt::format("the 1D reference would take more than {:g} steps to t = {:g} "
+                                 "s; shorten the end time",
+                                 static_cast<double>(kReferenceSteps), end_time));
   std::size_t next = 0;
   while (next < stops.size()) {
+    if (taken > kReferenceSteps)
+      throw InputError(fmt::format("the 1D reference would take more than {:g} steps to t = {:g} "
+                                   "s (at t = {:g} s); lower the load or the end time",
+                                   static_cast<double>(kReferenceSteps), end_time, ring.time()));
     const double dt = next_step();
     const double h = std::min(dt, stops[next] - ring.time());
     if (h > 1e-12 * dt) {
@@ -472,6 +483,10 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
   const double speed =
       std::max(std::isfinite(ref->peak_speed) ? ref->peak_speed : 0.0,
                peak_pressure() / (data_.rho * model.material->wave_speed(2, data_.rho)));
+  if (!std::isfinite(speed) || !std::isfinite(peak_pressure()))
+    throw InputError(fmt::format("{}: the load's peak pressure {:g} Pa gives no usable time step; "
+                                 "lower the pressure, rate or end_time",
+                                 data_.name, peak_pressure()));
   def.preferred_step = [speed, spacing, safety](double critical) {
     return std::min(safety * critical, kStepTravel * spacing / speed);
   };
