@@ -32,11 +32,14 @@ def arguments(doc, corpus_help, corpus_count, corpus_seed):
     ap.add_argument("--mfv", required=True)
     ap.add_argument("--count", type=int, default=200)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=60)
+    ap.add_argument("--timeout", type=float, default=None,
+                    help="seconds before a case counts as a hang (default 60; 20 with --corpus)")
     ap.add_argument("--corpus", action="store_true", help=corpus_help)
     a = ap.parse_args()
     if a.corpus:
-        a.count, a.seed, a.timeout = corpus_count, corpus_seed, 20
+        a.count, a.seed = corpus_count, corpus_seed
+    if a.timeout is None:
+        a.timeout = 20 if a.corpus else 60
     return a
 
 
