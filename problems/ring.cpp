@@ -912,7 +912,7 @@ std::vector<Finding> Ring::findings() const {
          "load=ramp, same method: the first band positions differ by more than 3° and the "
          "inner radius at 0.4 ms agrees within 5 % between the kernels",
          [](const std::vector<StudySummary>& all) {
-           Tally pairs, dummy;
+           Tally pairs;
            for (const auto* l : ring_studies(all, "lagrangian", "", "ramp"))
              for (const auto* e : ring_studies(all, "eulerian", l->method, "ramp")) {
                if (l->resolved.to_string() != e->resolved.to_string()) continue;
@@ -940,7 +940,7 @@ std::vector<Finding> Ring::findings() const {
        "load=lame: |u(a)/Lamé − 1| ≤ 0.015 (\"about 1 %\"; hold-phase mean of the inner "
        "radius), every study",
        [](const std::vector<StudySummary>& all) {
-         Tally ok, none;
+         Tally ok;
          for (const char* frame : {"lagrangian", "eulerian"})
            for (const auto* s : ring_studies(all, frame, "", "lame")) {
              const double e = last(*s, "u(a) / Lamé − 1");
