@@ -43,6 +43,11 @@ std::string fmt_headline(const std::string& name, double v, const TransientData&
   return fmt_value(v);
 }
 
+/// Particle-steps per second of the time loop's CPU time ("–" when it took none).
+std::string fmt_particle_steps(const CaseResult& r, const TransientData& t) {
+  return r.cpu.solve > 0 ? fmt_sci(r.particles * double(t.steps) / r.cpu.solve, 2) : "–";
+}
+
 /// "unstable at step 9, t = 0.0018" or "ran to the end".
 std::string fmt_run(const TransientData& t) {
   if (!t.instability) return t.stopped_early ? "stopped early" : "ran to the end";
@@ -183,8 +188,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         const auto it = r.headline.find(k);
         row.push_back(it == r.headline.end() ? "–" : fmt_headline(k, it->second, d));
       }
-      row.push_back(r.cpu.solve > 0 ? fmt_sci(r.particles * double(d.steps) / r.cpu.solve, 2)
-                                    : "–");
+      row.push_back(fmt_particle_steps(r, d));
       t.add_row(row);
     }
     side_by_side = "**Side by side** (the finest case of each study; every measured value is "
@@ -228,8 +232,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         row.push_back(fmt::format("{:.3f}", r.cpu.setup));
         row.push_back(fmt::format("{:.3f}", r.cpu.assembly));
         row.push_back(fmt::format("{:.3f}", r.cpu.solve));
-        row.push_back(r.cpu.solve > 0 ? fmt_sci(r.particles * double(d.steps) / r.cpu.solve, 2)
-                                      : "–");
+        row.push_back(fmt_particle_steps(r, d));
         t.add_row(row);
       }
     page.errors += t.str() + "\n";

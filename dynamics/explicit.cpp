@@ -314,6 +314,15 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
                    f.data(), opt_.threads);
 }
 
+namespace {
+/// out[c] += Σ_J N_J(X_I) u_J[c]: the field of the unknowns u at particle I from the table of
+/// values at the particles (methods whose unknowns are not the particle values).
+void add_field_at(const ShapeTable& t, int dim, const Eigen::VectorXd& u, int I, double* out) {
+  for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
+    for (int c = 0; c < dim; ++c) out[c] += t.value[e] * u[dim * t.index[e] + c];
+}
+}  // namespace
+
 void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
   f.setZero(dim_ * n_);
   if (model_.external_force) model_.external_force(t, f);
@@ -342,13 +351,10 @@ Eigen::MatrixXd ExplicitDynamics::positions_of(const std::vector<int>& particles
   for (std::size_t k = 0; k < particles.size(); ++k) {
     const int I = particles[k];
     x.col(k) = X_.col(I);
-    if (d_.particle_values) {
+    if (d_.particle_values)
       x.col(k) += u_.segment(dim_ * I, dim_);
-      continue;
-    }
-    const ShapeTable& tv = values_at_particles_;
-    for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
-      x.col(k) += tv.value[e] * u_.segment(dim_ * tv.index[e], dim_);
+    else
+      add_field_at(values_at_particles_, dim_, u_, I, x.col(k).data());
   }
   return x;
 }
@@ -371,7 +377,11 @@ Eigen::VectorXi ExplicitDynamics::point_neighbours() const {
 }
 
 int ExplicitDynamics::min_neighbours() const {
-  return nq_ > 0 ? point_neighbours().minCoeff() : 0;
+  // Called after every step by detectors: no allocation.
+  const ShapeTable& t = d_.trial_q;
+  int m = nq_ > 0 ? std::numeric_limits<int>::max() : 0;
+  for (int q = 0; q < nq_; ++q) m = std::min(m, t.offsets[q + 1] - t.offsets[q]);
+  return m;
 }
 
 Eigen::VectorXd ExplicitDynamics::point_state(const std::string& name) const {
@@ -584,9 +594,7 @@ Eigen::MatrixXd field_at_particles(const ShapeTable& t, bool particle_values, in
   Eigen::MatrixXd out = Eigen::Map<const Eigen::MatrixXd>(u.data(), dim, n);
   if (particle_values) return out;
   out.setZero();
-  for (int I = 0; I < n; ++I)
-    for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
-      for (int c = 0; c < dim; ++c) out(c, I) += t.value[e] * u[dim * t.index[e] + c];
+  for (int I = 0; I < n; ++I) add_field_at(t, dim, u, I, out.col(I).data());
   return out;
 }
 }  // namespace
@@ -618,31 +626,38 @@ Eigen::MatrixXd ExplicitDynamics::point_cauchy_stress() const {
   return s;
 }
 
+const std::vector<int>& ExplicitDynamics::particle_points() const {
+  if (!nearest_point_.empty()) return nearest_point_;
+  nearest_point_.resize(n_);
+  if (d_.quadrature.nodal_points >= n_) {
+    for (int I = 0; I < n_; ++I) nearest_point_[I] = I;
+    return nearest_point_;
+  }
+  // Cell rules: the nearest integration point. The reference points do not move, so the
+  // search runs once, on the first call.
+  ParticleSet pts;
+  pts.dim = dim_;
+  pts.x = Xq_;
+  const NeighbourSearch search(pts);
+  std::vector<int> near;
+  for (int I = 0; I < n_; ++I) {
+    double radius = spacing_ > 0 ? spacing_ : 1.0;
+    for (near.clear(); near.empty(); radius *= 2) search.within(X_.col(I).data(), radius, near);
+    int best = near.front();
+    for (int q : near)
+      if ((Xq_.col(q) - X_.col(I)).squaredNorm() < (Xq_.col(best) - X_.col(I)).squaredNorm())
+        best = q;
+    nearest_point_[I] = best;
+  }
+  return nearest_point_;
+}
+
 Eigen::MatrixXd ExplicitDynamics::particle_cauchy_stress() const {
   const Eigen::MatrixXd s = point_cauchy_stress();
-  const int nodal = d_.quadrature.nodal_points;
-  if (nodal >= n_) return s.leftCols(n_);
-  // Cell rules: the nearest integration point's value (pictures only). The reference points
-  // do not move, so the search runs once, on the first call.
-  if (nearest_point_.empty()) {
-    ParticleSet pts;
-    pts.dim = dim_;
-    pts.x = Xq_;
-    const NeighbourSearch search(pts);
-    nearest_point_.resize(n_);
-    std::vector<int> near;
-    for (int I = 0; I < n_; ++I) {
-      double radius = spacing_ > 0 ? spacing_ : 1.0;
-      for (near.clear(); near.empty(); radius *= 2) search.within(X_.col(I).data(), radius, near);
-      int best = near.front();
-      for (int q : near)
-        if ((Xq_.col(q) - X_.col(I)).squaredNorm() < (Xq_.col(best) - X_.col(I)).squaredNorm())
-          best = q;
-      nearest_point_[I] = best;
-    }
-  }
+  if (d_.quadrature.nodal_points >= n_) return s.leftCols(n_);
+  const std::vector<int>& point = particle_points();
   Eigen::MatrixXd out(s.rows(), n_);
-  for (int I = 0; I < n_; ++I) out.col(I) = s.col(nearest_point_[I]);
+  for (int I = 0; I < n_; ++I) out.col(I) = s.col(point[I]);
   return out;
 }
 

@@ -145,6 +145,9 @@ class ExplicitDynamics {
   /// Gauss point's value, for pictures only).
   Eigen::MatrixXd point_cauchy_stress() const;
   Eigen::MatrixXd particle_cauchy_stress() const;
+  /// The integration point that stands for each particle: its own (nodal and stress-point
+  /// rules) or the nearest one in the reference configuration (cell rules; pictures only).
+  const std::vector<int>& particle_points() const;
   double kinetic_energy() const;
   std::string description() const;
   /// The smallest det F over the integration points: ≤ 0 means a point has inverted.
@@ -201,7 +204,7 @@ class ExplicitDynamics {
   // (P, or the Kirchhoff stress τ = J σ in the Eulerian frame), material history.
   mutable std::vector<double> F_, stress_, state_, scratch_F_;
   std::vector<double> committed_F_;
-  mutable std::vector<int> nearest_point_;  ///< cell rules: integration point nearest each particle
+  mutable std::vector<int> nearest_point_;  ///< particle_points(), found on the first call
 };
 
 /// Parses "lagrangian"/"eulerian" and "verlet"/"newmark", throwing InputError with the valid

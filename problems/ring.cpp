@@ -197,30 +197,6 @@ std::shared_ptr<Reference> make_reference(ThickCylinder tc, double end_time,
 /// "0.12 ms".
 std::string ms(double t) { return fmt::format("{:g} ms", t * 1e3); }
 
-/// Per particle: the index of the integration point nearest it (nodal and stress-point rules:
-/// the particle's own point).
-std::vector<int> nearest_points(const Discretization& d) {
-  const int n = d.particles.size(), nq = d.quadrature.size();
-  std::vector<int> near(n);
-  if (d.quadrature.nodal_points >= n) {
-    std::iota(near.begin(), near.end(), 0);
-    return near;
-  }
-  for (int I = 0; I < n; ++I) {
-    int best = 0;
-    double best_d = INFINITY;
-    for (int q = 0; q < nq; ++q) {
-      const double dist = (d.quadrature.points.col(q) - d.particles.x.col(I)).squaredNorm();
-      if (dist < best_d) {
-        best_d = dist;
-        best = q;
-      }
-    }
-    near[I] = best;
-  }
-  return near;
-}
-
 class Ring final : public TransientProblem {
  public:
   Ring(RingData data, const Params& p) : data_(std::move(data)), p_(p) {
@@ -339,6 +315,10 @@ class Ring final : public TransientProblem {
   /// The material of the 2D run, and of the reference (no imperfection: it has no bands).
   std::shared_ptr<const Material> material(const MaterialRegistry& m, bool reference) const;
   Law law() const;
+  /// σ_Y0: the `yield` parameter, or the paper's for the load (000: 2e8; 001's decay: 1e10).
+  double yield_stress() const {
+    return p_.number("yield") > 0 ? p_.number("yield") : load_ == "decay" ? 1e10 : 2e8;
+  }
   double peak_pressure() const;
   double end_time() const;
   std::vector<double> checkpoints() const;
@@ -362,9 +342,7 @@ std::shared_ptr<const Material> Ring::material(const MaterialRegistry& m, bool r
   }
   mp.set("E", 2e11);
   mp.set("nu", 0.3);
-  const double yield = p_.number("yield") > 0 ? p_.number("yield")
-                                              : load_ == "decay" ? 1e10 : 2e8;
-  mp.set("yield", yield);
+  mp.set("yield", yield_stress());
   mp.set("hardening", p_.number("hardening"));
   mp.set("imperfection", reference ? 0.0 : p_.number("imperfection"));
   mp.set("seed", static_cast<double>(p_.integer("seed")));
@@ -502,7 +480,6 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
   std::vector<int> inner_points;
   for (int q = 0; q < Xq.cols(); ++q)
     if (Xq.col(q).norm() < a + 0.5 * dr) inner_points.push_back(q);
-  const std::vector<int> near = nearest_points(d);
 
   // The speed bound: kSpeedBound × the larger of the acoustic estimate and the reference's
   // own peak (a ring that collapses plastically accelerates far beyond p/(ρc)).
@@ -669,10 +646,7 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
   };
 
   const double mu = lame_constants().first, lambda = lame_constants().second;
-  const double yield = !steel()               ? 0.0
-                      : p_.number("yield") > 0 ? p_.number("yield")
-                      : load_ == "decay"       ? 1e10
-                                               : 2e8;
+  const double yield = steel() ? yield_stress() : 0.0;
   def.finish = [=](const ExplicitDynamics& sim, const TransientOutcome& out,
                    TransientMeasures& m) {
     m.headline["unstable"] = out.unstable ? 1.0 : 0.0;
@@ -724,6 +698,7 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
           i < fit.positions.size() ? fit.positions[i] : NAN;
     m.headline["max plastic strain"] = eps.maxCoeff();
     double outer_max = 0;
+    const std::vector<int>& near = sim.particle_points();
     for (int I : outer) outer_max = std::max(outer_max, eps[near[I]]);
     m.headline["outer-surface max plastic strain"] = outer_max;
     // The plastic strain on the inner surface around the ring.
@@ -749,6 +724,7 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
     const Eigen::MatrixXd s = sim.particle_cauchy_stress();
     Eigen::MatrixXd polar(2, n), neighbours(1, n), cluster(1, n);
     const Eigen::VectorXi nb = sim.point_neighbours();
+    const std::vector<int>& near = sim.particle_points();
     for (int I = 0; I < n; ++I) {
       polar(0, I) = radial_stress(x.col(I), s.col(I).data());
       polar(1, I) = hoop_stress(x.col(I), s.col(I).data());
@@ -794,7 +770,7 @@ double last(const StudySummary& s, const std::string& key) {
   return it == h.end() ? NAN : it->second;
 }
 
-/// Every study of one side passes `ok` (reproduced), none (not reproduced), some (partly).
+/// Studies that pass a criterion and that do not, with their numbers.
 struct Tally {
   int yes = 0, no = 0;
   std::string text;
@@ -803,13 +779,19 @@ struct Tally {
     text += fmt::format("{}{} ({}): {}", text.empty() ? "" : "; ", s.label,
                         s.problem_resolved.text("frame"), numbers);
   }
+  /// Every study passes (reproduced), none (not reproduced), some (partly); "not run" with
+  /// `missing` when there is no study.
+  Verdict verdict(const std::string& missing) const {
+    if (yes + no == 0) return {"not run", missing};
+    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text};
+  }
 };
 
+/// Both sides (Lagrangian and Eulerian studies) judged together.
 Verdict combine(const Tally& a, const Tally& b, const std::string& what) {
   if (a.yes + a.no == 0 || b.yes + b.no == 0) return {"not run", "needs studies of " + what};
-  const int right = a.yes + b.yes, wrong = a.no + b.no;
-  return {wrong == 0 ? "reproduced" : right == 0 ? "not reproduced" : "partly",
-          a.text + "; " + b.text};
+  Tally both{a.yes + b.yes, a.no + b.no, a.text + "; " + b.text};
+  return both.verdict("");
 }
 
 std::string fmt_or_dash(double v, const char* spec = "{:.3g}") {
@@ -927,10 +909,7 @@ std::vector<Finding> Ring::findings() const {
                                      fmt_or_dash(pe), fmt_or_dash(pl), fmt_or_dash(re, "{:.4g}"),
                                      fmt_or_dash(rl, "{:.4g}")));
              }
-           if (pairs.yes + pairs.no == 0)
-             return Verdict{"not run", "needs a Lagrangian and an Eulerian study of one method"};
-           return Verdict{pairs.no == 0 ? "reproduced" : pairs.yes == 0 ? "not reproduced" : "partly",
-                          pairs.text};
+           return pairs.verdict("needs a Lagrangian and an Eulerian study of one method");
          },
          "eulerian-bands-differ"});
   }
@@ -946,9 +925,7 @@ std::vector<Finding> Ring::findings() const {
              const double e = last(*s, "u(a) / Lamé − 1");
              ok.add(*s, std::abs(e) <= 0.015, fmt::format("u(a) error {}", fmt_or_dash(e)));
            }
-         if (ok.yes + ok.no == 0) return Verdict{"not run", "no study with load=lame"};
-         return Verdict{ok.no == 0 ? "reproduced" : ok.yes == 0 ? "not reproduced" : "partly",
-                        ok.text};
+         return ok.verdict("no study with load=lame");
        },
        "lame"});
   return f;
