@@ -7,6 +7,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <iostream>
 #include <set>
 #include <thread>
 
@@ -234,6 +235,19 @@ void command_list(const Catalogue& c, std::ostream& out) {
     out << fmt::format("  {:<22} {}\n", name, fmt::join(c.problems.create(name)->analyses(), ", "));
 }
 
+/// A case that ran but did not pass (exit 1: an unstable transient run, a failed check)
+/// says why on stderr too, where scripts and CI read the reason; the full verdict is on
+/// stdout with the rest of the case.
+void say_why_it_failed(int status, const CaseResult& r) {
+  if (status == 0) return;
+  const auto* t = r.find<TransientData>();
+  std::cerr << "mfv: " << r.spec.problem << " with " << r.spec.method << ": "
+            << (t && t->instability ? t->verdict() : std::string("the case did not pass; see "
+                                                                 "its verdict above"))
+            << "\n";
+}
+
+
 int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& out) {
   const double wall0 = wall_seconds(), cpu0 = cpu_seconds();
   if (o.no_report && !o.report.empty())
@@ -264,6 +278,7 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
                      spec.problem_params.to_string());
   out << fmt::format("method    {} ({})\n", spec.method, r.method_description);
   const int status = c.analyses.create(r.analysis)->print_case(r, out);
+  say_why_it_failed(status, r);
   std::set<std::string> printed;
   for (const auto& p : compare_published(*problem, {study},
                                           resolved_case_params(c, spec.problem, Params{},
@@ -321,6 +336,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   out << fmt::format("nodes     {}  (dx = {:.6g}, {} quadrature points)\n", r.particles, r.h,
                      r.quadrature_points);
   const int status = c.analyses.create(r.analysis)->print_case(r, out);
+  say_why_it_failed(status, r);
   if (r.find<StaticSolveData>() == nullptr) {
     if (!o.vtk.empty())
       out << "vtk       only static solves write --vtk; transient runs write time series "
