@@ -27,9 +27,12 @@ namespace {
 /// Plate side L (m), density ρ (kg/m³): a steel plate of 10 mm (our choice; 001 gives neither).
 constexpr double kSide = 0.01;
 constexpr double kDensity = 7800;
-/// A particle faster than this multiple of the platens' closing speed V means a blow-up: the
-/// material moves at most at about V (the platens) plus the band's sliding, of the same order.
-constexpr double kSpeedBound = 10.0;
+/// A particle faster than this multiple of the platens' closing speed V means a blow-up (about
+/// a tenth of the steel's wave speed at V = 10 m/s). A numerical blow-up grows exponentially and
+/// passes any such bound within a few steps; the bound is loose because a platen corner whose
+/// material has lost its strength (σ_Y = 0) is squeezed out sideways at tens of V, which is
+/// the model's physics, not an instability.
+constexpr double kSpeedBound = 50.0;
 /// Values of the stress–strain record kept in memory (two floats each): beyond it the
 /// record keeps every other sample and halves its rate.
 constexpr double kRecordValues = 1e7;
@@ -110,8 +113,9 @@ struct StressStrainRecord {
   std::vector<double> strain;  ///< nominal strain of each sample
   std::vector<float> stress, plastic;  ///< sample-major: points values per sample
 
+  /// Counts a step; true when this one is to be sampled.
+  bool due() { return calls++ % stride == 0; }
   void add(double nominal, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& ebar) {
-    if (calls++ % stride != 0) return;
     strain.push_back(nominal);
     for (int q = 0; q < points; ++q) {
       // σ̄ = √3 τ_max: the von Mises stress when σzz is the in-plane mean, as in plastic
@@ -343,21 +347,14 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
   def.stop = [=](const ExplicitDynamics& sim) {
     track->min_neighbours = std::min(track->min_neighbours, sim.min_neighbours());
     const double nominal = sim.time() * V / L;
-    if (record->calls % record->stride == 0) {
-      const Eigen::MatrixXd sigma = sim.point_cauchy_stress();
-      const Eigen::VectorXd ebar = sim.point_state("plastic_strain");
-      if (sigma.allFinite()) {
-        record->add(nominal, sigma, ebar);
-        const double f = platen_force(sim);
-        if (f > track->peak_force) {
-          track->peak_force = f;
-          track->strain_at_peak = nominal;
-        }
-      } else {
-        ++record->calls;
-      }
-    } else {
-      ++record->calls;
+    if (!record->due()) return track->inverted;
+    const Eigen::MatrixXd sigma = sim.point_cauchy_stress();
+    if (!sigma.allFinite()) return track->inverted;
+    record->add(nominal, sigma, sim.point_state("plastic_strain"));
+    const double f = platen_force(sim);
+    if (f > track->peak_force) {
+      track->peak_force = f;
+      track->strain_at_peak = nominal;
     }
     return track->inverted;
   };
