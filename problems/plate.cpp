@@ -45,6 +45,9 @@ constexpr double kTrendWindow = 0.05;
 /// an oscillation (a smooth curve's residual about its moving average is round-off).
 constexpr double kSpentStrength = 0.1;
 constexpr double kOscillationFloor = 0.005;
+/// Default nominal strains at the end, per material (Plate::end_strain).
+constexpr double kSofteningEndStrain = 0.02;
+constexpr double kViscoplasticEndStrain = 0.2;
 /// Points above this fraction of the largest ε̄ form the band core of the angle fit.
 constexpr double kBandFloor = 0.5;
 /// The Eulerian oscillation "grows" when its envelope at least doubles over the softening
@@ -144,10 +147,11 @@ class Plate final : public TransientProblem {
     material_ = p.text("material");
     imperfection_ = p.text("imperfection");
     // The schema refuses 0, negative and NaN values of the positive parameters; these are
-    // the upper ends where the run stops being the problem.
-    if (!(p.number("end_strain") <= 0.5))
-      throw InputError(fmt::format("compressed-plate: end_strain = {} is above 0.5 (the plate "
-                                   "would be flattened to half its height); give e.g. 0.02",
+    // the other ends, where the run stops being the problem.
+    if (!(p.number("end_strain") >= 0 && p.number("end_strain") <= 0.5))
+      throw InputError(fmt::format("compressed-plate: end_strain = {} is outside [0, 0.5] (0: "
+                                   "the material's own; above 0.5 the plate is flattened to half "
+                                   "its height); give e.g. 0.02",
                                    p.number("end_strain")));
     if (!(p.number("velocity") <= 1000))
       throw InputError(fmt::format("compressed-plate: velocity = {} m/s is above 1000 m/s (a "
@@ -213,7 +217,14 @@ class Plate final : public TransientProblem {
  private:
   std::shared_ptr<const Material> material(const MaterialRegistry& m,
                                            const Eigen::MatrixXd& points) const;
-  double end_time() const { return p_.number("end_strain") * kSide / p_.number("velocity"); }
+  /// The nominal strain at the end: end_strain, or the material's own when it is 0 — the
+  /// linear softening's band has lost most of its strength by 0.02; Needleman's law peaks
+  /// near ε̄ = 0.2 in the band (eps1 = 0.436) and needs the plate compressed further.
+  double end_strain() const {
+    if (p_.number("end_strain") > 0) return p_.number("end_strain");
+    return material_ == "viscoplastic" ? kViscoplasticEndStrain : kSofteningEndStrain;
+  }
+  double end_time() const { return end_strain() * kSide / p_.number("velocity"); }
 
   Params p_;
   std::string material_, imperfection_;
@@ -385,7 +396,7 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
 
   const int side = ps.lattice[0] > 0 ? ps.lattice[0] : static_cast<int>(std::sqrt(n));
   const std::string frame = in.dynamics.text("frame");
-  const double end_strain = p_.number("end_strain");
+  const double end_strain = this->end_strain();
   const double spot_radius = imperfection_ == "spot" ? p_.number("imperfection_radius") * L : 0.0;
   def.finish = [=](const ExplicitDynamics& sim, const TransientOutcome& out,
                    TransientMeasures& m) {
@@ -593,7 +604,8 @@ std::vector<std::string> Plate::published_notes() const {
       "250,000 particles; Fig. 15 shows a band particle's stress–strain curve, Fig. 16 the band.",
       fmt::format(
           "Our choices: side L = {:g} mm, ρ = {:g} kg/m³; platens closing at V = velocity "
-          "(default 10 m/s, ε̇ = V/L = 1000/s) to end_strain (default 0.02), shear-free (x free; "
+          "(default 10 m/s, ε̇ = V/L = 1000/s) to end_strain (default: 0.02 for j2-softening, 0.2 for "
+          "viscoplastic), shear-free (x free; "
           "x held only at the middle particle of each platen against drift) as the ends of "
           "Needleman's block, lateral faces free; the plate starts with the velocity field of "
           "uniform compression (v_y = −ε̇ y, v_x = ν/(1−ν) ε̇ x) so there is no shock at t = 0. "
@@ -626,7 +638,8 @@ void register_plate(ProblemRegistry& r) {
                            "j2-jaumann with linear softening"),
          ParamSpec::positive("velocity", 10.0, "closing speed V of the platens (m/s; each moves "
                                                "V/2), at most 1000"),
-         ParamSpec::positive("end_strain", 0.02, "nominal strain V t / L at the end (≤ 0.5)"),
+         ParamSpec::number("end_strain", 0.0, "nominal strain V t / L at the end (≤ 0.5; 0: 0.02 "
+                                              "for j2-softening, 0.2 for viscoplastic)"),
          ParamSpec::choice("imperfection", "spot", {"spot", "random", "none"},
                            "spot: σ_Y0 lowered in a disc at the centre; random: the material's "
                            "seeded per-point variation of that depth; none"),
