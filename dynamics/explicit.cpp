@@ -142,8 +142,9 @@ void compute_points(const PointKernel<D>& k, const Material& material, int nq, c
     double Lbuf[kChunk * D * D];
     for (int q = q0; q < q1; ++q)
       k.deformation(q, u, du, Fc, F + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+    // k.dt is 0 in trial evaluations: a rate-dependent material then responds elastically.
     material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
-                         state ? state + static_cast<long>(state_size) * q0 : nullptr);
+                         state ? state + static_cast<long>(state_size) * q0 : nullptr, k.dt);
     for (int q = q0; q < q1; ++q)
       k.finish(F + D * D * q, stress + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
   }

@@ -174,7 +174,7 @@ AxisymmetricRing::AxisymmetricRing(ThickCylinder cylinder) : cyl_(std::move(cyli
   P_.assign(4 * nq, 0.0);
   state_.assign(static_cast<std::size_t>(cyl_.material->state_size(2)) * nq, 0.0);
   cyl_.material->initial_state(2, nq, state_.data());
-  compute_forces();
+  compute_forces(0);
   a_ = ((-f_int_).array() / mass_.array()).matrix();
   a_(0) += f_ext_ / mass_(0);
 }
@@ -188,7 +188,7 @@ double AxisymmetricRing::pressure_at(double t) const {
   return p;
 }
 
-void AxisymmetricRing::compute_forces() {
+void AxisymmetricRing::compute_forces(double dt) {
   const int ne = cyl_.elements, nq = points_per_element * ne;
   for (int e = 0; e < ne; ++e) {
     const double he = R_(e + 1) - R_(e);
@@ -209,7 +209,7 @@ void AxisymmetricRing::compute_forces() {
       F[3] = lambda_t;
     }
   }
-  cyl_.material->first_piola(2, nq, F_.data(), P_.data(), state_.data());
+  cyl_.material->first_piola(2, nq, F_.data(), P_.data(), state_.data(), dt);
   if (cyl_.viscosity.enabled()) add_viscosity();
   f_int_.setZero();
   for (int e = 0; e < ne; ++e) {
@@ -265,7 +265,7 @@ void AxisymmetricRing::step(double dt) {
     throw SingularError(fmt::format("thick cylinder: the displacement went non-finite at t = {:g} "
                                     "s; lower the time step",
                                     t_));
-  compute_forces();
+  compute_forces(dt);
   external_work_ += 0.5 * (f_ext_old + f_ext_) * du(0);
   internal_work_ += 0.5 * (f_int_old + f_int_).dot(du);
   a_ = ((-f_int_).array() / mass_.array()).matrix();

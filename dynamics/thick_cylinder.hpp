@@ -115,8 +115,9 @@ class AxisymmetricRing {
   const ThickCylinder& cylinder() const { return cyl_; }
 
  private:
-  /// Stretches, P and forces at the current displacement; the material state advances.
-  void compute_forces();
+  /// Stretches, P and forces at the current displacement; the material state advances over
+  /// the step dt (0 at the start: no time has passed).
+  void compute_forces(double dt);
   /// Adds the artificial viscosity's P_v to P_ at the current half-step velocities.
   void add_viscosity();
   double pressure_at(double t) const;

@@ -2,40 +2,30 @@
 /// (001 eq 76 = 000 eq 5.2), τ^∇J = C : (D − Dᵖ), f = σ̄ − σ_Y(ε̄), σ̄ = [3/2 τ':τ']^{1/2},
 /// linear hardening (H > 0) or softening (H < 0), σ_Y = max(σ_Y0·ξ + H ε̄, 0) with a seeded
 /// per-point yield factor ξ (the imperfection that triggers the steel ring's shear bands,
-/// 001 §9.5). One step from F_old to F_new (Hughes–Winget): ΔL = (F_new − F_old) F_mid⁻¹,
-/// F_mid = ½(F_old + F_new), DΔt = sym ΔL, WΔt = skew ΔL, Q = (I − ½WΔt)⁻¹(I + ½WΔt);
-/// τ_trial = Q τ Qᵀ + λ tr(DΔt) I + 2μ DΔt, radial return Δε̄ = f_trial/(3μ + H), P = τ F⁻ᵀ.
-/// Q is exactly orthogonal and, for a rigid rotation, exactly the increment's rotation, so the
-/// update is objective to round-off. 2D is plane strain (F33 = 1, τ33 kept), 1D uniaxial
-/// strain (F = diag(F11, 1, 1)).
+/// 001 §9.5). One step from F_old to F_new: the Hughes–Winget rotated elastic trial τ_trial
+/// (jaumann_update.hpp, shared with j2-viscoplastic), radial return Δε̄ = f_trial/(3μ + H),
+/// P = τ F⁻ᵀ. 2D is plane strain (F33 = 1, τ33 kept), 1D uniaxial strain (F = diag(F11, 1, 1)).
 #include <cmath>
 #include <cstdint>
 #include <random>
-#include <stdexcept>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "methods/materials/jaumann_update.hpp"
 #include "methods/materials/material.hpp"
 
 namespace mfv {
 
 namespace {
 
-/// Per-point history: F − I (dim², column-major, so the engine's zero fill means F = I), the
-/// symmetric τ (xx, yy, zz, then xy, yz, xz as dim asks), ε̄, and ξ − 1.
+/// Per-point history: the shared F − I and τ (jaumann::Slots), then ε̄ and ξ − 1.
 struct Layout {
   int dim;
-  int f() const { return 0; }
-  int tau() const { return dim * dim; }
-  int tau_count() const { return 3 + dim * (dim - 1) / 2; }
-  int plastic_strain() const { return tau() + tau_count(); }
+  int plastic_strain() const { return jaumann::Slots{dim}.end(); }
   int yield_factor() const { return plastic_strain() + 1; }
   int size() const { return yield_factor() + 1; }
 };
-
-// Off-diagonal τ slots after xx, yy, zz: (0,1), (1,2), (0,2).
-constexpr int kOffRow[3] = {0, 1, 0}, kOffCol[3] = {1, 2, 2};
 
 class J2Jaumann final : public Material {
  public:
@@ -61,52 +51,22 @@ class J2Jaumann final : public Material {
   }
 
   std::vector<std::string> state_names(int dim) const override {
-    std::vector<std::string> names;
-    for (int j = 0; j < dim; ++j)
-      for (int i = 0; i < dim; ++i)
-        names.push_back(i == j ? fmt::format("F{}{}_minus_1", i + 1, j + 1)
-                               : fmt::format("F{}{}", i + 1, j + 1));
-    const char* tau[] = {"tau_xx", "tau_yy", "tau_zz", "tau_xy", "tau_yz", "tau_xz"};
-    for (int k = 0; k < Layout{dim}.tau_count(); ++k) names.push_back(tau[k]);
+    std::vector<std::string> names = jaumann::slot_names(dim);
     names.push_back("plastic_strain");
     names.push_back("yield_factor_minus_1");
     return names;
   }
 
   void first_piola(int dim, int n, const double* F, double* P, double* state) const override {
-    if (dim < 1 || dim > 3)
-      throw InputError(fmt::format("material 'j2-jaumann' works in 1D, 2D or 3D, not {}D", dim));
-    if (!state)
-      throw std::logic_error("material 'j2-jaumann' needs its history (state_size per point)");
+    jaumann::check_call("j2-jaumann", dim, state);
     const Layout l{dim};
-    const int dd = dim * dim, nt = l.tau_count();
+    const int dd = dim * dim;
     for (int q = 0; q < n; ++q) {
       double* s = state + static_cast<long>(l.size()) * q;
-      Eigen::Matrix3d F_old = Eigen::Matrix3d::Identity(), F_new = F_old;
-      for (int j = 0; j < dim; ++j)
-        for (int i = 0; i < dim; ++i) {
-          F_old(i, j) += s[l.f() + i + dim * j];
-          F_new(i, j) = F[dd * q + i + dim * j];
-        }
-      Eigen::Matrix3d tau = Eigen::Matrix3d::Zero();
-      for (int k = 0; k < 3; ++k) tau(k, k) = s[l.tau() + k];
-      for (int k = 3; k < nt; ++k)
-        tau(kOffRow[k - 3], kOffCol[k - 3]) = tau(kOffCol[k - 3], kOffRow[k - 3]) =
-            s[l.tau() + k];
-      double& ebar = s[l.plastic_strain()];
-
-      update(F_old, F_new, 1 + s[l.yield_factor()], tau, ebar);
-
-      const Eigen::Matrix3d P3 = tau * F_new.inverse().transpose();
-      for (int j = 0; j < dim; ++j)
-        for (int i = 0; i < dim; ++i) {
-          P[dd * q + i + dim * j] = P3(i, j);
-          s[l.f() + i + dim * j] = F_new(i, j) - (i == j ? 1 : 0);
-        }
-      for (int k = 0; k < 3; ++k) s[l.tau() + k] = tau(k, k);
-      for (int k = 3; k < nt; ++k)
-        s[l.tau() + k] =
-            0.5 * (tau(kOffRow[k - 3], kOffCol[k - 3]) + tau(kOffCol[k - 3], kOffRow[k - 3]));
+      Eigen::Matrix3d F_old, F_new, tau;
+      jaumann::load(dim, s, F + dd * q, F_old, F_new, tau);
+      update(F_old, F_new, 1 + s[l.yield_factor()], tau, s[l.plastic_strain()]);
+      jaumann::store(dim, F_new, tau, P + dd * q, s);
     }
   }
 
@@ -126,10 +86,7 @@ class J2Jaumann final : public Material {
   void update(const Eigen::Matrix3d& F_old, const Eigen::Matrix3d& F_new, double factor,
               Eigen::Matrix3d& tau, double& ebar) const {
     const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d dL = (F_new - F_old) * (0.5 * (F_old + F_new)).inverse();
-    const Eigen::Matrix3d dD = 0.5 * (dL + dL.transpose()), dW = 0.5 * (dL - dL.transpose());
-    const Eigen::Matrix3d Q = (I - 0.5 * dW).inverse() * (I + 0.5 * dW);
-    tau = Q * tau * Q.transpose() + lambda_ * dD.trace() * I + 2 * mu_ * dD;
+    jaumann::elastic_trial(F_old, F_new, lambda_, mu_, tau);
 
     const double p = tau.trace() / 3;
     Eigen::Matrix3d dev = tau - p * I;

@@ -27,6 +27,16 @@ class Material {
   /// state_size(dim) values per point, updated in place (call once per time step). Called
   /// once per batch of points, never per point, so the virtual call costs nothing.
   virtual void first_piola(int dim, int n, const double* F, double* P, double* state) const = 0;
+  /// P of n points after a time step dt (seconds) of the engine: rate-dependent models need it
+  /// (j2-viscoplastic's flow rate Δε̄/Δt). dt = 0 is a trial evaluation (a tangent or
+  /// critical-step probe, an imposed displacement): no time passes, so a rate-dependent model
+  /// responds elastically. The default ignores dt, so rate-independent models are unchanged.
+  virtual void first_piola(int dim, int n, const double* F, double* P, double* state,
+                           double dt) const {
+    first_piola(dim, n, F, P, state);
+  }
+  /// True when P depends on dt (the engine must pass the step's dt, not 0).
+  virtual bool rate_dependent() const { return false; }
   /// Dilatational wave speed √(M/ρ) in the model's small-strain limit: the elastic bound used
   /// by time-step estimates and instability detectors.
   virtual double wave_speed(int dim, double density) const = 0;
@@ -40,6 +50,7 @@ void register_svk(MaterialRegistry&);
 void register_plastic_1d(MaterialRegistry&);
 void register_hyperelastic(MaterialRegistry&);
 void register_j2_jaumann(MaterialRegistry&);
+void register_j2_viscoplastic(MaterialRegistry&);
 
 /// Registers every material: add one line here for a new one.
 inline void register_all_materials(MaterialRegistry& r) {
@@ -47,6 +58,7 @@ inline void register_all_materials(MaterialRegistry& r) {
   register_plastic_1d(r);
   register_hyperelastic(r);
   register_j2_jaumann(r);
+  register_j2_viscoplastic(r);
 }
 
 }  // namespace mfv
