@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/materials/j2_viscoplastic.hpp"
 #include "problems/plate_measures.hpp"
 #include "problems/problem.hpp"
 #include "problems/transient_problem.hpp"
@@ -58,8 +59,8 @@ constexpr double kAngleTolerance = 10.0;
 
 /// A material whose yield stress is lowered by `depth` (relative) at the integration points
 /// within `radius` of `centre`: the weak spot that triggers the band. It writes the wrapped
-/// material's history slot "yield_factor_minus_1" (σ_Y0 · (1 + slot)) at t = 0 and
-/// otherwise passes every call through.
+/// material's history slot "yield_factor_minus_1" (σ_Y0 · (1 + slot), σ0 of j2-viscoplastic)
+/// at t = 0 and otherwise passes every call through (with the step's dt).
 class WeakSpot final : public Material {
  public:
   WeakSpot(std::shared_ptr<const Material> inner, Eigen::MatrixXd points, Eigen::Vector2d centre,
@@ -91,6 +92,11 @@ class WeakSpot final : public Material {
   void first_piola(int dim, int n, const double* F, double* P, double* state) const override {
     inner_->first_piola(dim, n, F, P, state);
   }
+  void first_piola(int dim, int n, const double* F, double* P, double* state,
+                   double dt) const override {
+    inner_->first_piola(dim, n, F, P, state, dt);
+  }
+  bool rate_dependent() const override { return inner_->rate_dependent(); }
   double wave_speed(int dim, double density) const override {
     return inner_->wave_speed(dim, density);
   }
@@ -165,10 +171,12 @@ class Plate final : public TransientProblem {
       throw InputError(fmt::format("compressed-plate: imperfection_radius = {} must be at most "
                                    "0.5 (of the side L); give e.g. 0.05",
                                    p.number("imperfection_radius")));
-    if (!(p.number("hardening") < 0) || !std::isfinite(p.number("hardening")))
-      throw InputError(fmt::format("compressed-plate: hardening = {} must be negative and "
-                                   "finite (material=j2-softening softens linearly); give e.g. "
-                                   "-1e9",
+    // j2-softening's E = 2e11, ν = 0.3: the radial return needs 3μ + H > 0.
+    constexpr double kThreeMu = 3 * 2e11 / (2 * 1.3);
+    if (!(p.number("hardening") < 0) || !(p.number("hardening") > -kThreeMu))
+      throw InputError(fmt::format("compressed-plate: hardening = {} must be negative and above "
+                                   "−3μ = −2.3e11 (material=j2-softening softens linearly); give "
+                                   "e.g. -1e9",
                                    p.number("hardening")));
     if (!(p.number("yield") < 1e12))
       throw InputError(fmt::format("compressed-plate: yield = {} Pa is above 1e12; give σ_Y0 in "
@@ -313,6 +321,8 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
     double peak_force = 0, strain_at_peak = NAN;
     double last_frame_time = NAN;
     Eigen::VectorXd last_frame_ebar;
+    /// Where (reference position) the fastest particle was when the speed bound was passed.
+    Eigen::Vector2d blow_up_at{NAN, NAN};
   };
   auto track = std::make_shared<Track>();
   const double v_bound = kSpeedBound * V;
@@ -347,11 +357,14 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
                          "{:.4f}",
                          jmin, sim.time() * V / L);
     }
-    const double vmax = sim.particle_velocity().colwise().norm().maxCoeff();
-    if (!(vmax <= v_bound))
+    Eigen::Index fastest = 0;
+    const double vmax = sim.particle_velocity().colwise().norm().maxCoeff(&fastest);
+    if (!(vmax <= v_bound)) {
+      track->blow_up_at = ps.x.col(fastest);
       return fmt::format("a particle moves at {:.3g} m/s, above {:g} × the platens' closing "
                          "speed {:g} m/s, at nominal strain {:.4f}",
                          vmax, kSpeedBound, V, sim.time() * V / L);
+    }
     return std::string();
   };
 
@@ -402,6 +415,8 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
                    TransientMeasures& m) {
     m.headline["unstable"] = out.unstable ? 1.0 : 0.0;
     m.headline["unstable at (nominal strain)"] = out.unstable ? out.unstable_time * V / L : NAN;
+    m.headline["blow-up particle x (mm)"] = track->blow_up_at[0] * 1e3;
+    m.headline["blow-up particle y (mm)"] = track->blow_up_at[1] * 1e3;
     m.headline["min det F"] = track->min_jacobian;
     m.headline["min neighbours"] = track->min_neighbours;
     m.headline["peak platen force (N/m)"] = track->peak_force;
@@ -551,8 +566,8 @@ std::vector<Finding> Plate::findings() const {
        "compressed plate: at a particle in the band the Eulerian kernel's stress–strain curve "
        "oscillates with growing amplitude in the softening range; the Lagrangian kernel with "
        "stress points does not (slightly increasing oscillations at most)",
-       fmt::format("for each method run with both kernels at the same resolution and method "
-                   "parameters: the Eulerian oscillation grows — its envelope at least doubles "
+       fmt::format("material=viscoplastic (001's law), for each method run with both kernels at "
+                   "the same resolution and method parameters: the Eulerian oscillation grows — its envelope at least doubles "
                    "over the softening range (from the band point's peak σ̄ until it has fallen "
                    "to {3:g} of it; fitted growth factor ≥ {0:g}), or the run blows up "
                    "after softening began (unbounded growth) — and the Lagrangian run reaches the "
@@ -568,7 +583,8 @@ std::vector<Finding> Plate::findings() const {
            for (const auto* e : plate_studies(all, "eulerian", l->method)) {
              if (l->resolved.to_string() != e->resolved.to_string() ||
                  l->finest_nodes != e->finest_nodes ||
-                 l->problem_resolved.text("material") != e->problem_resolved.text("material"))
+                 l->problem_resolved.text("material") != "viscoplastic" ||
+                 e->problem_resolved.text("material") != "viscoplastic")
                continue;
              const double gl = last(*l, "oscillation growth factor");
              const double ge = last(*e, "oscillation growth factor");
@@ -585,18 +601,29 @@ std::vector<Finding> Plate::findings() const {
                                    "Lagrangian {} (rate {})",
                                    fmt_or_dash(ge), fmt_or_dash(last(*e, "oscillation growth rate")),
                                    e_blew ? fmt::format(", blew up at nominal strain {} (softening "
-                                                        "from {})",
-                                                        fmt_or_dash(e_at), fmt_or_dash(e_soft))
+                                                        "from {}; fastest particle at ({}, {}) mm)",
+                                                        fmt_or_dash(e_at), fmt_or_dash(e_soft),
+                                                        fmt_or_dash(last(*e, "blow-up particle x (mm)")),
+                                                        fmt_or_dash(last(*e, "blow-up particle y (mm)")))
                                           : "",
                                    fmt_or_dash(gl), fmt_or_dash(last(*l, "oscillation growth rate"))));
            }
-         return pairs.verdict("needs a Lagrangian and an Eulerian study of one method");
+         return pairs.verdict(
+             "needs a Lagrangian and an Eulerian study of one method with material=viscoplastic");
        },
        "eulerian-oscillations-grow"});
   return f;
 }
 
 std::vector<std::string> Plate::published_notes() const {
+  const Needleman1989Parameters t = needleman_1989_parameters();
+  std::string table = fmt::format(
+      "material=viscoplastic (the default): j2-viscoplastic, Needleman's (1989) rate-dependent "
+      "J2 flow, with these values ({} softening: {}):\n\n| parameter | value | unit | source "
+      "|\n| :-- | --: | :-- | :-- |\n",
+      t.softening_law, t.softening_source);
+  for (const SourcedParameter& e : t.entries)
+    table += fmt::format("| {} | {:g} | {} | {} |\n", e.name, e.value, e.unit, e.source);
   return {
       "001 §9.4 gives the problem in words only: a square plate under compression, plane strain, "
       "Needleman's viscoplastic model (1989) with the parameters of Belytschko, Chiang & "
@@ -614,7 +641,8 @@ std::vector<std::string> Plate::published_notes() const {
           "an imperfection at the specimen centre (a quarter model's corner); "
           "imperfection=random uses the material's seeded per-point variation instead.",
           kSide * 1e3, kDensity),
-      "material=j2-softening (until j2-viscoplastic is merged): J2 with the Jaumann rate and "
+      table,
+      "material=j2-softening (the alternative to Needleman's law): J2 with the Jaumann rate and "
       "linear softening: E = 2e11, ν = 0.3 of the steel ring (001 §9.5), σ_Y0 = 2e8 (000 §5.3), "
       "H = −E/200 = −1e9 (ours: the ring's −E/10 leaves a band with no strength at ε̄ = 0.01, "
       "nominal strain 0.003, and the platen corners extrude; at −E/200 the band point softens "
@@ -633,7 +661,7 @@ void register_plate(ProblemRegistry& r) {
         "nominal rate, softening J2 (Needleman 1989 viscoplastic or linear softening), a weak "
         "spot at the centre: the shear band's angle and the band particle's stress-strain "
         "oscillation, Lagrangian against Eulerian kernel (001 §9.4)",
-        {ParamSpec::choice("material", "j2-softening", {"viscoplastic", "j2-softening"},
+        {ParamSpec::choice("material", "viscoplastic", {"viscoplastic", "j2-softening"},
                            "viscoplastic: Needleman 1989 (j2-viscoplastic); j2-softening: "
                            "j2-jaumann with linear softening"),
          ParamSpec::positive("velocity", 10.0, "closing speed V of the platens (m/s; each moves "
