@@ -121,7 +121,7 @@ class NotchedBeam final : public TransientProblem {
     if (!std::isfinite(steps_) || steps_ < 0 || steps_ > 1e7 || steps_ != std::floor(steps_))
       throw InputError(fmt::format(
           "notched-beam: steps = {} must be a whole number in [1, 1e7] (001: 12000), or 0 for "
-          "12000 × scale² (at least {})",
+          "12000 × scale (at least {})",
           steps_, kMinSteps));
     if (!std::isfinite(velocity_) || !(velocity_ > 0) || velocity_ > 100)
       throw InputError(fmt::format(
@@ -162,8 +162,7 @@ class NotchedBeam final : public TransientProblem {
   }
   long steps(int nodes) const {
     if (steps_ > 0) return static_cast<long>(steps_);
-    const double s = scale(nodes);
-    return std::max(kMinSteps, std::lround(kPaperSteps * s * s));
+    return std::max(kMinSteps, std::lround(kPaperSteps * scale(nodes)));
   }
 
   ParticleSet particles(int nodes, double perturbation) const override {
@@ -180,10 +179,12 @@ class NotchedBeam final : public TransientProblem {
 
   std::vector<std::string> comparison_headlines() const override {
     return {"CPU per step (s)", "CPU hours for 12000 steps at paper size (1 core)",
-            "set-up CPU (s)", "particles", "integration points", "steps", "threads"};
+            "set-up CPU (s)", "stepping CPU (s)", "steps", "threads"};
   }
   std::vector<std::string> published_notes() const override;
   std::vector<Finding> findings() const override;
+  std::string studies_table(const std::vector<StudySummary>& studies) const override;
+  std::vector<PlotSpec> studies_plots(const std::vector<StudySummary>& studies) const override;
 
  private:
   ParticleSet build(const BeamLattice& L) const;
@@ -362,8 +363,8 @@ std::vector<std::string> NotchedBeam::published_notes() const {
       "chosen for the count nearest scale × the paper's (scale 1: 394,318 for the nodal rows; "
       "175,693 particles − notch + one stress point per cell for KBM si; 42,867 for EFG ci, "
       "whose Gauss cells pair two lattice cells into one quadrilateral holding two particles, so "
-      "001 eq 66 gives 4 × 4 points: 338,000). Steps: `steps`, or 12,000 × scale² when 0 (120 "
-      "at a tenth). Hours at paper size: CPU per step × 12,000 × (001's particles + "
+      "001 eq 66 gives 4 × 4 points: 338,000). Steps: `steps`, or 12,000 × scale when 0 (1,200 "
+      "at a tenth: 40 neighbour searches of the Eulerian kernel). Hours at paper size: CPU per step × 12,000 × (001's particles + "
       "integration points that are not particles) / (ours); no extrapolation at scale 1.",
   };
 }
@@ -520,6 +521,81 @@ std::vector<Finding> NotchedBeam::findings() const {
   return f;
 }
 
+std::string NotchedBeam::studies_table(const std::vector<StudySummary>& all) const {
+  auto headline = [](const StudySummary& s, const char* key) {
+    if (s.headlines.empty()) return static_cast<double>(NAN);
+    const auto it = s.headlines.back().find(key);
+    return it == s.headlines.back().end() ? static_cast<double>(NAN) : it->second;
+  };
+  auto shown = [](double v, const char* spec) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("–");
+  };
+  const double sph_l = measured(all, "sph", "lagrangian").hours;
+  const double sph_e = measured(all, "sph", "eulerian").hours;
+  std::string md =
+      "**001 Tables 5–6 as run.** Our single-core CPU hours at the paper's size (CPU per step × "
+      "12,000 × the count ratio) beside 001's hours on 20 processors (2004), and the ratios that "
+      "compare: each method over SPH with the same kernel, and Eulerian over Lagrangian.\n\n"
+      "| method | kernel | particles | integration points | steps | CPU per step (s) | ours (h, 1 "
+      "core) | 001 (h, 20 proc.) | ours / SPH | 001 / SPH | Eulerian / Lagrangian ours | 001 |\n"
+      "|:--|:--|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  int rows = 0;
+  for (const char* frame : {"lagrangian", "eulerian"})
+    for (const auto& row : kPaper)
+      for (const auto& s : all) {
+        if (s.method != row.method || !s.problem_resolved.has("frame") ||
+            s.problem_resolved.text("frame") != frame)
+          continue;
+        const bool lag = std::string(frame) == "lagrangian";
+        const double hours = headline(s, "CPU hours for 12000 steps at paper size (1 core)");
+        const double paper = lag ? row.lagrangian_hours : row.eulerian_hours;
+        const double paper_sph = lag ? kPaper[0].lagrangian_hours : kPaper[0].eulerian_hours;
+        const double other = measured(all, row.method, "lagrangian").hours;
+        md += fmt::format(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", s.label, frame,
+            shown(headline(s, "particles"), "{:.0f}"),
+            shown(headline(s, "integration points"), "{:.0f}"),
+            shown(headline(s, "steps"), "{:.0f}"), shown(headline(s, "CPU per step (s)"), "{:.3e}"),
+            shown(hours, "{:.3g}"), shown(paper, "{:.1f}"),
+            shown(hours / (lag ? sph_l : sph_e), "{:.2f}"), shown(paper / paper_sph, "{:.2f}"),
+            lag ? "–" : shown(hours / other, "{:.2f}"),
+            lag ? "–" : shown(row.eulerian_hours / row.lagrangian_hours, "{:.2f}"));
+        ++rows;
+        break;
+      }
+  return rows == 0 ? std::string() : md + "\n";
+}
+
+std::vector<PlotSpec> NotchedBeam::studies_plots(const std::vector<StudySummary>& all) const {
+  PlotSpec p;
+  p.title = "notched beam: CPU per step, one core";
+  p.xlabel = "method";
+  p.ylabel = "CPU per step (s)";
+  p.style = "boxes";
+  p.auto_logy = false;
+  for (std::size_t k = 0; k < kPaper.size(); ++k)
+    p.xtic_labels.emplace_back(static_cast<double>(k), kPaper[k].method);
+  for (const char* frame : {"lagrangian", "eulerian"}) {
+    Series bars;
+    bars.label = std::string(frame) + " kernel";
+    const double offset = std::string(frame) == "lagrangian" ? -0.16 : 0.16;
+    for (std::size_t k = 0; k < kPaper.size(); ++k)
+      for (const auto& s : all) {
+        if (s.method != kPaper[k].method || s.headlines.empty() ||
+            !s.problem_resolved.has("frame") || s.problem_resolved.text("frame") != frame)
+          continue;
+        const auto it = s.headlines.back().find("CPU per step (s)");
+        if (it == s.headlines.back().end() || !std::isfinite(it->second)) continue;
+        bars.x.push_back(static_cast<double>(k) + offset);
+        bars.y.push_back(it->second);
+        break;
+      }
+    if (!bars.x.empty()) p.series.push_back(std::move(bars));
+  }
+  if (p.series.empty()) return {};
+  return {p};
+}
+
 }  // namespace
 
 void register_notched_beam(ProblemRegistry& r) {
@@ -528,7 +604,7 @@ void register_notched_beam(ProblemRegistry& r) {
                         "fraction of 001's particle counts (1: Table 5's, 0.1 a tenth; at most "
                         "4); 0: nodes / 1000"),
       ParamSpec::number("steps", 0.0,
-                        "time steps of the run (001: 12000); 0: 12000 × scale², at least 20"),
+                        "time steps of the run (001: 12000); 0: 12000 × scale, at least 20"),
       ParamSpec::choice("layout", "nodal", {"nodal", "stress-points", "gauss-cells"},
                         "whose Table 5 counts: nodal 396,000 particles (sph, rlm, efg-ni); "
                         "stress-points 175,000 + 173,000 (kbm-si); gauss-cells 43,000 + "
