@@ -239,8 +239,9 @@ ParticleSet NotchedBeam::build(const BeamLattice& L) const {
   p.stress_points = std::move(sp);
   // Gauss cells: pairs of neighbouring cells along x as one quadrilateral holding two
   // particles, so 001 eq 66 gives ⌈√2⌉ + 2 = 4 points per direction: 16 per two particles,
-  // 8 per particle, 001's 340,000 for 43,000 particles (one cell per quad with 3 × 3 would
-  // give 9 per particle, 387,000). A cell without a partner (at the notch) is a quad alone.
+  // 8 per particle, 337,010 at 42,867 particles against 001's 340,000 at 43,000 (one cell
+  // per quad with 3 × 3 would give 9 per particle, 379,062). A cell without a partner (at the
+  // notch) is a quad alone.
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx;) {
       if (!in_beam(i, j)) {
@@ -360,10 +361,12 @@ std::vector<std::string> NotchedBeam::published_notes() const {
       "roller at the bottom-right. 001's load was quasi-static (strain rate ≤ 1e-6/s); ours is a "
       "short dynamic run, which costs the same per step.",
       "Counts: square lattices of 10m + 1 by m + 1 particles without those inside the notch, m "
-      "chosen for the count nearest scale × the paper's (scale 1: 394,318 for the nodal rows; "
-      "175,693 particles − notch + one stress point per cell for KBM si; 42,867 for EFG ci, "
-      "whose Gauss cells pair two lattice cells into one quadrilateral holding two particles, so "
-      "001 eq 66 gives 4 × 4 points: 338,000). Steps: `steps`, or 12,000 × scale when 0 (1,200 "
+      "chosen for the count nearest scale × the paper's. Scale 1: 397,300 particles for the "
+      "nodal rows (m = 199, spacing 1.005 mm); 175,231 particles + 173,712 stress points (one "
+      "per lattice cell) for KBM si (m = 132); 42,867 particles for EFG ci (m = 65), whose Gauss "
+      "cells pair two lattice cells into one quadrilateral holding two particles, so 001 eq 66 "
+      "gives 4 × 4 points, 337,010 in all (one cell per quad, m = 1, would give 3 × 3: 379,062). "
+      "A tenth: 39,030; 17,199 + 16,726; 4,211 + 31,860. Steps: `steps`, or 12,000 × scale when 0 (1,200 "
       "at a tenth: 40 neighbour searches of the Eulerian kernel). Hours at paper size: CPU per step × 12,000 × (001's particles + "
       "integration points that are not particles) / (ours); no extrapolation at scale 1.",
   };
