@@ -309,7 +309,7 @@ TransientDefinition NotchedBeam::define(const Discretization& d, const Transient
   const double s = scale(in.nodes);
   def.steps = steps;
   def.label = fmt::format("notched-beam {} {}", in.method, in.dynamics.text("frame"));
-  def.notes = fmt::format("{} steps, scale {}, {} layout, svk plane stress", steps, s, layout_);
+  def.notes = fmt::format("{} steps, scale {}, {} layout", steps, s, layout_);
   def.probe_names = {"v_y load point", "u_y load point"};
   def.probes = [load_point](const ExplicitDynamics& sim) {
     const Eigen::MatrixXd v = sim.particle_velocity();
@@ -571,7 +571,7 @@ std::string NotchedBeam::studies_table(const std::vector<StudySummary>& all) con
 
 std::vector<PlotSpec> NotchedBeam::studies_plots(const std::vector<StudySummary>& all) const {
   PlotSpec p;
-  p.title = "notched beam: CPU per step, one core";
+  p.title = "notched beam: CPU per step, one core, at each row's counts";
   p.xlabel = "method";
   p.ylabel = "CPU per step (s)";
   p.style = "boxes";
