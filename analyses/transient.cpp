@@ -214,6 +214,13 @@ class TransientAnalysis final : public Analysis {
     if (def.preferred_step && !(p_.number("dt") > 0)) step.target = def.preferred_step(step.critical);
     const std::vector<double> checkpoints =
         def.step_checkpoints ? def.step_checkpoints(step.target, step.critical) : def.checkpoints;
+    if (def.steps < 0 || (def.steps > 0 && !checkpoints.empty()))
+      throw InputError(fmt::format("{}: a run of a fixed number of steps ({}) takes no "
+                                   "checkpoints and a count >= 0",
+                                   def.label, def.steps));
+    // With no checkpoint the end time is the unit run_transient divides into whole steps:
+    // steps × the target step gives exactly `steps` steps of the target step.
+    if (def.steps > 0) def.end_time = static_cast<double>(def.steps) * step.target;
     r.cpu.assembly = cpu_seconds() - t0;
     td.main_error = def.main_error;
     TransientMeasures m;
@@ -238,6 +245,7 @@ class TransientAnalysis final : public Analysis {
     out.unstable = td.instability.has_value();
     out.unstable_time = td.instability ? td.instability->time : 0.0;
     out.cpu_seconds = r.cpu.total();
+    out.cpu_loop = r.cpu.solve;
     if (def.finish) def.finish(sim, out, m);
     r.errors = m.errors;
     r.errors_paper = r.errors;

@@ -207,7 +207,14 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
       "drift\" is max |K + W_int − W_ext − K₀| over the run relative to the largest energy. "
       "CPU seconds: set-up (neighbours, shape functions), engine (force tables, critical "
       "step) and the time loop; particle-steps/s from the loop's CPU time.\n\n";
-  page.errors = side_by_side + page.errors;
+  // The problem's own table and charts over every study of the section.
+  const std::vector<StudySummary> summaries = summarize(catalogue, section.studies);
+  page.errors = problem->studies_table(summaries) + side_by_side + page.errors;
+  std::string studies_plots;
+  const std::vector<PlotSpec> charts = problem->studies_plots(summaries);
+  for (std::size_t i = 0; i < charts.size(); ++i)
+    studies_plots += plot_image(dir, fmt::format("plots/{}-studies{}.svg", base, i + 1), charts[i],
+                                charts[i].title, charts[i].title);
   {
     std::vector<std::string> head = {"method", problem->resolution_name(), "particles",
                                       "stress pts", "quad pts", "dt", "dt/crit", "steps", "run"};
@@ -283,6 +290,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
 
   // Time histories of the finest case of each study: CSV and plots.
   fs::create_directories(dir / "plots");
+  page.plots += studies_plots;
   page.plots +=
       "### Time histories\n\nEnergy balance and probes of the finest case of each "
       "study (CSV beside the plots).\n\n";

@@ -60,6 +60,9 @@ struct ParticleSet {
   /// with the bilinear map (001 eqs 67-68). Empty for rectangle lattices, whose cells follow
   /// from `lattice`.
   std::vector<std::array<int, 4>> quads;
+  /// Particles each of `quads` holds, m of 001 eq 66 (n_Q = ⌈√m⌉ + 2 Gauss points per
+  /// direction), for quads that span several lattice cells; empty: 1 each (one lattice cell).
+  std::vector<int> quad_particles;
   /// Stress points built with the set, for domains make_stress_points cannot cut from a
   /// rectangle (an annulus); null: stress-point integration builds them from the lattice.
   std::shared_ptr<const StressPoints> stress_points;

@@ -17,6 +17,7 @@
 #include "methods/materials/linear_elastic.hpp"
 #include "methods/methods/method.hpp"
 #include "reports/convergence.hpp"
+#include "reports/plot.hpp"
 
 namespace mfv {
 
@@ -118,6 +119,16 @@ class Problem {
   /// What the reports say about the published values: known misprints, ambiguous readings
   /// and the best explanation of a gap (Markdown paragraphs). Numbers stay in the tables.
   virtual std::vector<std::string> published_notes() const { return {}; }
+  /// A Markdown table over all the studies of a report section (e.g. every method's CPU with
+  /// its ratios to the others and to the paper's), shown before the per-case tables; "": none.
+  virtual std::string studies_table(const std::vector<StudySummary>& studies) const {
+    return "";
+  }
+  /// Charts over all the studies of a report section (e.g. a bar chart of CPU per method and
+  /// kernel), drawn by the report beside its own plots; empty: none.
+  virtual std::vector<PlotSpec> studies_plots(const std::vector<StudySummary>& studies) const {
+    return {};
+  }
 };
 
 /// A problem solved on particles of its domain (static or transient): the particle sets, the

@@ -17,6 +17,7 @@ void register_enriched_bar(ProblemRegistry&);
 void register_stretch_map(ProblemRegistry&);
 void register_rings(ProblemRegistry&);
 void register_plate(ProblemRegistry&);
+void register_notched_beam(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -33,6 +34,7 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_stretch_map(r);
   register_rings(r);
   register_plate(r);
+  register_notched_beam(r);
 }
 
 }  // namespace mfv

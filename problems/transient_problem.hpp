@@ -33,6 +33,7 @@ struct TransientOutcome {
   bool unstable = false;
   double unstable_time = 0;    ///< when the instability was detected (unstable runs)
   double cpu_seconds = 0;      ///< set-up, engine and time loop
+  double cpu_loop = 0;         ///< the time loop alone (cpu_seconds includes it)
 };
 
 /// What define() gets besides the discretization: the materials to build the problem's
@@ -52,6 +53,10 @@ struct TransientDefinition {
   /// Particle velocities at t = 0 (dim × N); empty: at rest.
   Eigen::MatrixXd initial_velocity;
   double end_time = 0;
+  /// A run of exactly this many steps of the chosen step (a timing study, where every method
+  /// must take the same number): end_time becomes steps × dt and `checkpoints` must be
+  /// empty. 0: run to end_time.
+  long steps = 0;
   /// Times the step must land on (errors are measured there), at_checkpoint's k counts them.
   std::vector<double> checkpoints;
   /// Checkpoints that depend on the chosen step (whole steps near given times); replaces

@@ -148,6 +148,20 @@ std::string build_script(const PlotSpec& spec, const std::vector<Filtered>& seri
   }
   if (logy) line("set logscale y 10");
   if (logy) line("set format y '%.0e'");
+  if (!spec.xtic_labels.empty()) {
+    std::string tics;
+    for (const auto& [x, label] : spec.xtic_labels)
+      tics += fmt::format("{}{} {:.17g}", tics.empty() ? "" : ", ", gp_quote(label), x);
+    line("set xtics (" + tics + ")");
+    line(fmt::format("set xrange [{:.17g}:{:.17g}]", spec.xtic_labels.front().first - 0.75,
+                     spec.xtic_labels.back().first + 0.75));
+  }
+  if (spec.style == "boxes") {
+    // Bars side by side: each series offsets its x (the caller), all grow from y = 0.
+    line("set style fill solid 0.75 border -1");
+    line("set boxwidth 0.3 absolute");
+    if (!logy) line("set yrange [0:*]");
+  }
   line("set grid xtics ytics mxtics mytics lc rgb '#dddddd' lw 1");
   line("set key outside right top vertical Left reverse");
   for (std::size_t i = 0; i < series.size(); ++i) {
@@ -266,8 +280,10 @@ std::string gnuplot_script(const PlotSpec& spec) {
 }
 
 std::optional<std::string> write_svg_plot(const fs::path& svg_path, const PlotSpec& spec) {
-  if (spec.style != "linespoints" && spec.style != "lines" && spec.style != "points")
-    return fmt::format("unknown plot style '{}': use linespoints, lines or points", spec.style);
+  if (spec.style != "linespoints" && spec.style != "lines" && spec.style != "points" &&
+      spec.style != "boxes")
+    return fmt::format("unknown plot style '{}': use linespoints, lines, points or boxes",
+                       spec.style);
   for (const auto& s : spec.series)
     if (s.x.size() != s.y.size())
       return fmt::format("series '{}' has {} x and {} y values", s.label, s.x.size(), s.y.size());

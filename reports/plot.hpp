@@ -4,6 +4,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 
@@ -28,7 +29,9 @@ struct PlotSpec {
   /// least kAutoLogSpan (three decades): such data is a flat line on a linear axis.
   bool auto_logy = true;
   std::vector<Series> series;
-  std::string style = "linespoints";  ///< or "lines"
+  std::string style = "linespoints";  ///< or "lines", "points", "boxes" (a bar chart, y from 0)
+  /// Category labels on the x axis at these x (a bar chart's methods); empty: numeric tics.
+  std::vector<std::pair<double, std::string>> xtic_labels;
   /// Reference lines ∝ x^p on a log–log plot (convergence: p = 1, 2, …), dashed grey, each
   /// labelled "∝ h^p" in the legend and anchored at the geometric mean of the series' values
   /// at the largest x; ignored unless both axes are logarithmic.

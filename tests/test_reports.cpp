@@ -342,12 +342,31 @@ TEST(Plot, GnuplotErrorIsReportedAndKeepsPreviousSvg) {
   write_plain(svg, "<svg>previous</svg>");
   PlotSpec spec;
   spec.series.push_back({"a", {1, 2}, {1, 2}});
-  spec.style = "boxes";  // refused before gnuplot runs: the style goes into the script
+  spec.style = "filledcurves";  // refused before gnuplot runs: the style goes into the script
   const auto failure = write_svg_plot(svg, spec);
   ASSERT_TRUE(failure.has_value());
   EXPECT_NE(failure->find("style"), std::string::npos) << *failure;
   EXPECT_EQ(read_file(svg), "<svg>previous</svg>");
   EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"plot.svg"});
+}
+
+TEST(Plot, BarChartsHaveCategoryTicsAndStartAtZero) {
+  PlotSpec spec;
+  spec.style = "boxes";
+  spec.auto_logy = false;
+  spec.xtic_labels = {{0, "sph"}, {1, "efg-ni"}};
+  spec.series.push_back({"lagrangian", {-0.16, 0.84}, {1, 2}});
+  spec.series.push_back({"eulerian", {0.16, 1.16}, {2, 4}});
+  const std::string script = gnuplot_script(spec);
+  EXPECT_NE(script.find("with boxes"), std::string::npos) << script;
+  EXPECT_NE(script.find("set xtics ('sph' 0, 'efg-ni' 1)"), std::string::npos) << script;
+  EXPECT_NE(script.find("set yrange [0:*]"), std::string::npos) << script;
+  if (!gnuplot_available()) GTEST_SKIP() << "gnuplot is not installed";
+  TempDir dir;
+  const auto svg = dir.path() / "bars.svg";
+  const auto failure = write_svg_plot(svg, spec);
+  ASSERT_FALSE(failure.has_value()) << *failure;
+  EXPECT_NE(read_file(svg).find("efg-ni"), std::string::npos);
 }
 
 TEST(Plot, MissingGnuplotGivesReason) {

@@ -133,11 +133,25 @@ CellLayout cell_layout(const Domain& d, const ParticleSet& p, int cells, int nq)
           throw InputError(fmt::format("quadrilateral cell {} names particle {}, but the set "
                                        "has particles 0..{}; fix ParticleSet::quads",
                                        k, J, p.size() - 1));
+    if (!p.quad_particles.empty() && p.quad_particles.size() != p.quads.size())
+      throw InputError(fmt::format("the particle set gives particle counts for {} of its {} "
+                                   "quadrilateral cells; fix ParticleSet::quad_particles (one "
+                                   "per quad, or none)",
+                                   p.quad_particles.size(), p.quads.size()));
     c.quads = c.explicit_quads = true;
     c.cx = static_cast<int>(p.quads.size());
     c.cy = 1;
-    // Each cell holds about one particle, as a lattice cell does: m = 1, n_Q = 3.
-    c.n.assign(p.quads.size(), nq > 0 ? nq : eq66_points(1));
+    // Each cell holds about one particle, as a lattice cell does (m = 1, n_Q = 3), unless the
+    // set says how many its larger cells hold.
+    c.n.resize(p.quads.size());
+    for (std::size_t k = 0; k < p.quads.size(); ++k) {
+      const int m = p.quad_particles.empty() ? 1 : p.quad_particles[k];
+      if (m < 1)
+        throw InputError(fmt::format("quadrilateral cell {} holds {} particles; "
+                                     "ParticleSet::quad_particles must be >= 1",
+                                     k, m));
+      c.n[k] = nq > 0 ? nq : eq66_points(m);
+    }
     return c;
   }
   const double lx = d.upper[0] - d.lower[0], ly = d.upper[1] - d.lower[1];
