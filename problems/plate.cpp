@@ -5,10 +5,11 @@
 ///   (problems/plate_measures.hpp), against the slip lines' ±45° of a von Mises material in
 ///   plane strain (Hill 1950, The Mathematical Theory of Plasticity, ch. VI: the
 ///   characteristics bisect the principal stress directions);
-/// - the stress–strain curve σ̄(ε̄) of the point with the largest ε̄ at the end (001 Fig. 15)
-///   and the growth rate of its oscillation about the trend in the softening range, fitted as
+/// - the stress–strain curve σ̄(ε̄) of the band point, the largest ε̄ at the end in the central
+///   half of the plate outside the weak spot (001 Fig. 15; σ̄ = √3 τ_max), and the growth rate of its oscillation about the trend in the softening range, fitted as
 ///   ln(envelope) ≈ a + g ε_n over half-period peaks (ε_n = V t / L the nominal strain);
-/// - a blow-up detector (an inverted point, a particle faster than kSpeedBound × V).
+/// - a blow-up detector (an inverted point, a particle faster than kSpeedBound × V) that stops
+///   the run and says when and where.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -25,7 +26,8 @@ namespace mfv {
 
 namespace {
 
-/// Plate side L (m), density ρ (kg/m³): a steel plate of 10 mm (our choice; 001 gives neither).
+/// Plate side L (m), density ρ (kg/m³): a steel plate of 10 mm (our choice; 001 gives neither;
+/// ρ is also needleman_1989_parameters()'s density).
 constexpr double kSide = 0.01;
 constexpr double kDensity = 7800;
 /// A particle faster than this multiple of the platens' closing speed V means a blow-up (about
@@ -49,7 +51,7 @@ constexpr double kOscillationFloor = 0.005;
 /// Default nominal strains at the end, per material (Plate::end_strain).
 constexpr double kSofteningEndStrain = 0.02;
 constexpr double kViscoplasticEndStrain = 0.2;
-/// Points above this fraction of the largest ε̄ form the band core of the angle fit.
+/// Points above this fraction of the band point's ε̄ form the band core of the angle fit.
 constexpr double kBandFloor = 0.5;
 /// The Eulerian oscillation "grows" when its envelope at least doubles over the softening
 /// range; the Lagrangian one is "slight at most" when it does not double.
