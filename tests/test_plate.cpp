@@ -181,5 +181,51 @@ TEST(CompressedPlate, NeedlemansLawRunsThroughTheWeakSpot) {
     for (const auto& [name, field] : f.data) EXPECT_TRUE(field.allFinite()) << name;
 }
 
+
+/// A synthetic study of the plate with material=viscoplastic and the headlines the
+/// oscillation finding reads.
+StudySummary plate_study(const std::string& frame, double growth, bool blew, double bx,
+                         double by) {
+  StudySummary s;
+  s.method = "kbm-si";
+  s.label = "kbm-si " + frame;
+  s.finest_nodes = 41;
+  s.problem_resolved.set("frame", frame.c_str());
+  s.problem_resolved.set("material", "viscoplastic");
+  s.headlines.push_back({{"oscillation growth factor", growth},
+                         {"oscillation growth rate", std::log(growth)},
+                         {"oscillation half-periods", 6},
+                         {"unstable", blew ? 1.0 : 0.0},
+                         {"unstable at (nominal strain)", blew ? 0.08 : NAN},
+                         {"softening from (nominal strain)", 0.05},
+                         {"blow-up particle x (mm)", bx},
+                         {"blow-up particle y (mm)", by}});
+  return s;
+}
+
+std::string oscillation_verdict(const std::vector<StudySummary>& studies) {
+  const auto p = create_problem(test_catalogue(), "compressed-plate", Params{});
+  for (const Finding& f : p->findings())
+    if (f.id == "eulerian-oscillations-grow") return f.check(studies).status;
+  ADD_FAILURE() << "no finding eulerian-oscillations-grow";
+  return {};
+}
+
+TEST(PlateFindings, GrowthAtTheBandPointReproducesAndACornerBlowUpDoesNot) {
+  const StudySummary lag = plate_study("lagrangian", 1.2, false, NAN, NAN);
+  EXPECT_EQ(oscillation_verdict({lag, plate_study("eulerian", 3.0, false, NAN, NAN)}),
+            "reproduced");
+  // Blown up after softening with the fastest particle near the centre: unbounded growth.
+  EXPECT_EQ(oscillation_verdict({lag, plate_study("eulerian", 1.1, true, 0.5, -1.0)}),
+            "reproduced");
+  // Blown up at a platen corner: not the band point's oscillation.
+  EXPECT_EQ(oscillation_verdict({lag, plate_study("eulerian", 1.1, true, -5.0, -5.0)}),
+            "not reproduced");
+  // The Lagrangian run's oscillation doubling too: not 001's contrast.
+  EXPECT_EQ(oscillation_verdict({plate_study("lagrangian", 3.0, false, NAN, NAN),
+                                 plate_study("eulerian", 3.0, false, NAN, NAN)}),
+            "not reproduced");
+}
+
 }  // namespace
 }  // namespace mfv
