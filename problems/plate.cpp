@@ -19,12 +19,17 @@
 #include "methods/core/errors.hpp"
 #include "methods/materials/j2_viscoplastic.hpp"
 #include "problems/plate_measures.hpp"
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 #include "problems/transient_problem.hpp"
 
 namespace mfv {
 
 namespace {
+
+using finding::fmt_or_dash;
+using finding::last;
+using finding::Tally;
 
 /// Plate side L (m), density ρ (kg/m³): a steel plate of 10 mm (our choice; 001 gives neither;
 /// ρ is also needleman_1989_parameters()'s density).
@@ -509,31 +514,6 @@ std::vector<const StudySummary*> plate_studies(const std::vector<StudySummary>& 
   }
   return out;
 }
-
-double last(const StudySummary& s, const std::string& key) {
-  const auto& h = s.headlines.back();
-  const auto it = h.find(key);
-  return it == h.end() ? NAN : it->second;
-}
-
-std::string fmt_or_dash(double v, const char* spec = "{:.3g}") {
-  return std::isnan(v) ? "–" : fmt::format(fmt::runtime(spec), v);
-}
-
-/// Studies that pass a criterion and that do not, with their numbers.
-struct Tally {
-  int yes = 0, no = 0;
-  std::string text;
-  void add(const StudySummary& s, bool ok, const std::string& numbers) {
-    (ok ? yes : no) += 1;
-    text += fmt::format("{}{} ({}): {}", text.empty() ? "" : "; ", s.label,
-                        s.problem_resolved.text("frame"), numbers);
-  }
-  Verdict verdict(const std::string& missing) const {
-    if (yes + no == 0) return {"not run", missing};
-    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text};
-  }
-};
 
 }  // namespace
 

@@ -22,6 +22,7 @@
 
 #include "dynamics/thick_cylinder.hpp"
 #include "methods/core/errors.hpp"
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 #include "problems/ring_measures.hpp"
 #include "problems/transient_problem.hpp"
@@ -29,6 +30,10 @@
 namespace mfv {
 
 namespace {
+
+using finding::fmt_or_dash;
+using finding::last;
+using finding::Tally;
 
 constexpr double kPi = std::numbers::pi;
 /// A run is called blown up when a particle moves faster than this multiple of the inner
@@ -764,38 +769,11 @@ std::vector<const StudySummary*> ring_studies(const std::vector<StudySummary>& a
   return out;
 }
 
-double last(const StudySummary& s, const std::string& key) {
-  const auto& h = s.headlines.back();
-  const auto it = h.find(key);
-  return it == h.end() ? NAN : it->second;
-}
-
-/// Studies that pass a criterion and that do not, with their numbers.
-struct Tally {
-  int yes = 0, no = 0;
-  std::string text;
-  void add(const StudySummary& s, bool ok, const std::string& numbers) {
-    (ok ? yes : no) += 1;
-    text += fmt::format("{}{} ({}): {}", text.empty() ? "" : "; ", s.label,
-                        s.problem_resolved.text("frame"), numbers);
-  }
-  /// Every study passes (reproduced), none (not reproduced), some (partly); "not run" with
-  /// `missing` when there is no study.
-  Verdict verdict(const std::string& missing) const {
-    if (yes + no == 0) return {"not run", missing};
-    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text};
-  }
-};
-
 /// Both sides (Lagrangian and Eulerian studies) judged together.
 Verdict combine(const Tally& a, const Tally& b, const std::string& what) {
   if (a.yes + a.no == 0 || b.yes + b.no == 0) return {"not run", "needs studies of " + what};
   Tally both{a.yes + b.yes, a.no + b.no, a.text + "; " + b.text};
   return both.verdict("");
-}
-
-std::string fmt_or_dash(double v, const char* spec = "{:.3g}") {
-  return std::isnan(v) ? "–" : fmt::format(fmt::runtime(spec), v);
 }
 
 }  // namespace
