@@ -207,7 +207,14 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
     throw InputError(fmt::format("Newmark gamma = {} below 1/2 is unstable; use 0.5 or more",
                                  opt_.newmark_gamma));
   if (opt_.threads <= 0) opt_.threads = omp_get_max_threads();
+  // A skin of many spacings lists nearly every particle for every point (quadratic memory).
+  if (!(opt_.neighbour_skin >= 0 && opt_.neighbour_skin <= 10))
+    throw InputError(fmt::format("neighbour skin = {} (over the spacing) must be a number in "
+                                 "[0, 10]; 0.3 is the default, 0 searches afresh at every "
+                                 "recomputation",
+                                 opt_.neighbour_skin));
   spacing_ = d_.particles.spacing;
+  retabulation_ = Retabulation(opt_.neighbour_skin * spacing_, opt_.threads);
   wave_speed_ = model_.material->wave_speed(dim_, model_.density);
   const int m = dim_ * n_;
   u_ = v_ = a_ = f_int_ = f_ext_ = Eigen::VectorXd::Zero(m);
@@ -266,7 +273,8 @@ void ExplicitDynamics::build_force_tables() {
   for (int I = 0; I < n_; ++I) tt_offsets_[I + 1] += tt_offsets_[I];
   tt_point_.resize(t.entries());
   tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
-  std::vector<int> next(tt_offsets_.begin(), tt_offsets_.end() - 1);
+  std::vector<int>& next = tt_next_;
+  next.assign(tt_offsets_.begin(), tt_offsets_.end() - 1);
   for (int q = 0; q < nq_; ++q)
     for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
       const int slot = next[t.index[e]]++;
@@ -551,11 +559,15 @@ void ExplicitDynamics::retabulate() {
     const double* F = F_.data() + dd * q;
     return dim_ == 1 ? F[0] : F[0] * F[3] - F[1] * F[2];
   };
-  Eigen::MatrixXd x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
-  Eigen::VectorXd V = V0_;
+  // Into the discretization's own storage: no allocation per recomputation.
+  Eigen::MatrixXd& x = d_.particles.x;
+  x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
+  Eigen::VectorXd& V = d_.particles.volume;
+  V = V0_;
   const int nodal = d_.quadrature.nodal_points;
   for (int I = 0; I < std::min(n_, nodal); ++I) V[I] *= jac(I);
-  Eigen::MatrixXd xq = Xq_;
+  Eigen::MatrixXd& xq = d_.quadrature.points;
+  xq = Xq_;
   // The points move with the material: the t = 0 values place them at X_q + u^h(X_q). (The
   // current table would evaluate u at the point's current position with the current
   // supports, a lagged estimate that loses stress points under large strain.)
@@ -570,15 +582,13 @@ void ExplicitDynamics::retabulate() {
     for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
       for (int c = 0; c < dim_; ++c) xq(c, q) += t.value[e] * u_[dim_ * t.index[e] + c];
   }
-  d_.particles.x = x;
-  d_.particles.volume = V;
-  d_.quadrature.points = xq;
   for (int q = 0; q < nq_; ++q) d_.quadrature.weights[q] = w0_[q] * jac(q);
-  method_.retabulate(d_, 1);
+  method_.retabulate(d_, 1, retabulation_);
   if (d_.trial_q.points() != nq_ || d_.test_q.points() != nq_)
     throw std::logic_error("a method's retabulation changed its integration points");
   build_force_tables();
   ++counters_.retabulations;
+  counters_.neighbour_rebuilds = retabulation_.rebuilds();
 }
 
 double ExplicitDynamics::kinetic_energy() const {
@@ -669,8 +679,10 @@ std::string ExplicitDynamics::description() const {
   return fmt::format(
       "{} kernel{}, {}, {}, {}, {} thread{}",
       opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
-      opt_.frame == KernelFrame::eulerian ? fmt::format(" (tables every {} steps)", opt_.update_every)
-                                          : "",
+      opt_.frame == KernelFrame::eulerian
+          ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx)", opt_.update_every,
+                        opt_.neighbour_skin)
+          : "",
       opt_.integrator == TimeIntegrator::verlet
           ? "central differences (velocity Verlet)"
           : fmt::format("explicit Newmark predictor-corrector gamma={:g}", opt_.newmark_gamma),
