@@ -268,19 +268,49 @@ void ExplicitDynamics::build_force_tables() {
   const ShapeTable& t = d_.test_q;
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
     throw std::logic_error("explicit dynamics needs first derivatives of the test functions");
-  tt_offsets_.assign(n_ + 1, 0);
-  for (int e = 0; e < t.entries(); ++e) ++tt_offsets_[t.index[e] + 1];
-  for (int I = 0; I < n_; ++I) tt_offsets_[I + 1] += tt_offsets_[I];
+  // A counting sort of the entries by particle, the points split into one contiguous chunk
+  // per thread: thread k's entries of particle I go after those of threads < k, so every
+  // particle lists its points in ascending order, as the serial sort does.
+  const int threads = nq_ > kParallelMinimum ? opt_.threads : 1;
+  const std::size_t stride = static_cast<std::size_t>(n_) + 1;
+  tt_next_.assign(threads * stride, 0);
+  auto chunk = [&](int k, int& q0, int& q1) {
+    q0 = static_cast<int>(static_cast<long>(nq_) * k / threads);
+    q1 = static_cast<int>(static_cast<long>(nq_) * (k + 1) / threads);
+  };
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* count = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int e = t.offsets[q0]; e < t.offsets[q1]; ++e) ++count[t.index[e]];
+  }
+  tt_offsets_.resize(n_ + 1);
+  int base = 0;
+  for (int I = 0; I < n_; ++I) {
+    tt_offsets_[I] = base;
+    for (int k = 0; k < threads; ++k) {
+      int& slot = tt_next_[k * stride + I];
+      const int c = slot;
+      slot = base;  // the count becomes thread k's first slot for particle I
+      base += c;
+    }
+  }
+  tt_offsets_[n_] = base;
   tt_point_.resize(t.entries());
   tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
-  std::vector<int>& next = tt_next_;
-  next.assign(tt_offsets_.begin(), tt_offsets_.end() - 1);
-  for (int q = 0; q < nq_; ++q)
-    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
-      const int slot = next[t.index[e]]++;
-      tt_point_[slot] = q;
-      for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
-    }
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* next = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int q = q0; q < q1; ++q)
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+        const int slot = next[t.index[e]]++;
+        tt_point_[slot] = q;
+        for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
+      }
+  }
 }
 
 void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,

@@ -89,7 +89,16 @@ struct CorrectedKernelApproximation::PointEvaluator {
     kernel_scale = o.normalize_kernel ? 1.0 / a.kernel_->integral(dim) : 1.0;
     if (4 * points >= particles.size()) {
       factor.resize(particles.size());
-      for (int J = 0; J < particles.size(); ++J) factor[J] = weight_factor(J);
+      // Dilations are mostly one value: pow once per run of equal ones (the same number).
+      double a_last = std::nan(""), scaled = 0;
+      for (int J = 0; J < particles.size(); ++J) {
+        const double aj = particles.dilation[J];
+        if (!(aj == a_last)) {
+          a_last = aj;
+          scaled = kernel_scale / std::pow(aj, dim);
+        }
+        factor[J] = o.volume_weighted ? scaled * particles.volume[J] : scaled;
+      }
     }
     nb = o.correct ? basis_size(o.basis_order, dim) : 0;
     nh = dim * dim;
