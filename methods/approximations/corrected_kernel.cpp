@@ -33,6 +33,17 @@ void basis_at(int order, int dim, const double* xi, double* p) {
     for (int j = i; j < dim; ++j) p[k++] = xi[i] * xi[j];
 }
 
+/// M += c p pᵀ, element by element as Eigen's outer product M += (c p) pᵀ does it (the
+/// scaled column first, then times p_j), without its dynamic-size dispatch per call.
+void add_outer(Eigen::MatrixXd& M, double c, const double* p) {
+  const Eigen::Index n = M.rows();
+  double cp[6];
+  for (Eigen::Index i = 0; i < n; ++i) cp[i] = c * p[i];
+  double* m = M.data();
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = 0; i < n; ++i) m[i + n * j] += p[j] * cp[i];
+}
+
 std::string point_text(const double* x, int dim) {
   std::string s = "(";
   for (int d = 0; d < dim; ++d) s += fmt::format("{}{:.6g}", d ? ", " : "", x[d]);
@@ -219,7 +230,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
       basis_at(o.basis_order, dim, xi, P.col(static_cast<Eigen::Index>(m)).data());
     }
     M.setZero();
-    for (std::size_t m = 0; m < k; ++m) M.noalias() += w[m] * P.col(m) * P.col(m).transpose();
+    for (std::size_t m = 0; m < k; ++m) add_outer(M, w[m], P.col(m).data());
     Eigen::LDLT<Eigen::MatrixXd>& ldlt = sc.ldlt;
     ldlt.compute(M);
     const double rc = ldlt.rcond();
@@ -248,7 +259,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
         Md[i].resize(nb, nb);
         Md[i].setZero();
         for (std::size_t m = 0; m < k; ++m)
-          Md[i].noalias() += gw[m * dim + i] * P.col(m) * P.col(m).transpose();
+          add_outer(Md[i], gw[m * dim + i], P.col(m).data());
         gd[i] = ldlt.solve(pd[i] - Md[i] * gamma);
       }
     }
@@ -263,7 +274,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
           Mdd[ij].resize(nb, nb);
           Mdd[ij].setZero();
           for (std::size_t m = 0; m < k; ++m)
-            Mdd[ij].noalias() += hw[m * nh + ij] * P.col(m) * P.col(m).transpose();
+            add_outer(Mdd[ij], hw[m * nh + ij], P.col(m).data());
           gdd[ij] = ldlt.solve(pdd[ij] - Md[i] * gd[j] - Md[j] * gd[i] - Mdd[ij] * gamma);
         }
     }
