@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
 
 namespace mfv {
@@ -18,8 +19,6 @@ namespace mfv {
 namespace {
 
 constexpr int kChunk = 256;  // integration points per material call
-// Below this many points or particles a parallel region costs more than it saves.
-constexpr int kParallelMinimum = 4096;
 
 /// Kinematics and stresses of one chunk of points [q0, q1): the deformation gradient (from u
 /// in the Lagrangian frame, from the increment du and the stored F in the Eulerian one), the

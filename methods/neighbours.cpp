@@ -7,6 +7,7 @@
 #include <nanoflann.hpp>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 
 namespace mfv {
 
@@ -86,7 +87,8 @@ bool NeighbourLists::update(const Eigen::MatrixXd& particles, const Eigen::Matri
   const double reach = radius + skin_;
   // Per-point lists, then concatenated in point order: the same lists on any thread count.
   std::vector<std::vector<int>> found(nq);
-#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) if (nq > 1024)
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) \
+    if (run_parallel(threads, nq))
   for (int q = 0; q < nq; ++q) search.within(points.col(q).data(), reach, found[q]);
   offsets_.assign(nq + 1, 0);
   for (int q = 0; q < nq; ++q) offsets_[q + 1] = offsets_[q] + static_cast<int>(found[q].size());

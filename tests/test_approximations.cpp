@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 #include "test_support.hpp"
 
 namespace mfv {
@@ -252,7 +253,9 @@ TEST_P(FastEvaluate, EqualsTheFreshEvaluationBitForBit) {
   p.spacing = 0.05;
   // Dilations that differ per particle: supports not symmetric, the search radius the largest.
   p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
-  Eigen::MatrixXd points = random_cloud(700, 22).array() * 0.8 + 0.1;
+  // More points than kParallelMinimum: the 2-thread evaluation runs in parallel.
+  Eigen::MatrixXd points = random_cloud(5000, 22).array() * 0.8 + 0.1;
+  ASSERT_GT(points.cols(), kParallelMinimum);
   NeighbourLists lists1(0.02), lists2(0.02);
   ShapeTable t1, t2;
   for (int round = 0; round < 3; ++round) {
@@ -293,10 +296,12 @@ TEST(FastEvaluate, ThrowsTheLowestPointsErrorOnAnyThreadCount) {
   p.x = random_cloud(300, 50);
   p.volume = Eigen::VectorXd::Constant(300, 1.0 / 300);
   p.dilation = Eigen::VectorXd::Constant(300, 0.12);
-  // Points 400 and 600 lie far outside the cloud: no particle covers them.
-  Eigen::MatrixXd points = random_cloud(800, 51);
-  points.col(600) << 5, 5;
-  points.col(400) << 3, 3;
+  // Points 2500 and 4500 (of 5000: a parallel loop) lie far outside the cloud: no particle
+  // covers them.
+  // The others inside [0.1, 0.9]², where every point has a support of ~40 particles.
+  Eigen::MatrixXd points = random_cloud(5000, 51).array() * 0.8 + 0.1;
+  points.col(4500) << 5, 5;
+  points.col(2500) << 3, 3;
   std::string serial, parallel;
   NeighbourLists l1(0.01), l2(0.01);
   ShapeTable t;

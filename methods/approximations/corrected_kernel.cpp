@@ -9,7 +9,7 @@
 
 #include "methods/approximations/approximation.hpp"
 #include "methods/core/errors.hpp"
-#include "methods/core/first_error.hpp"
+#include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
 
 namespace mfv {
@@ -335,7 +335,7 @@ void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
   // Two passes so every thread writes its rows in place: the support sizes, their prefix sums
   // (the row offsets), then the rows. The table is the serial one on any thread count.
   FirstError error;
-  const bool parallel = threads > 1 && nq > 256;
+  const bool parallel = run_parallel(threads, nq);
 #pragma omp parallel num_threads(threads) if (parallel)
   {
     PointScratch sc;

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
-#include "methods/core/first_error.hpp"
+#include "methods/core/parallel.hpp"
 
 namespace mfv {
 
@@ -52,8 +52,6 @@ void delta_table(const ShapeTable& s, ShapeTable& t) {
   }
 }
 
-bool parallel(int threads, int rows) { return threads > 1 && rows > 256; }
-
 }  // namespace
 
 ShapeTable sph_symmetric_gradient(const ShapeTable& sph) {
@@ -67,7 +65,7 @@ void sph_symmetric_gradient(const ShapeTable& sph, ShapeTable& t, int threads) {
   const int dim = sph.dim;
   const int n = sph.points();
   // Row q writes only its own entries (its diagonal included): rows are independent.
-#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) if (parallel(threads, n))
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) if (run_parallel(threads, n))
   for (int q = 0; q < n; ++q) {
     const int kd = diagonal_entry(sph, q);
     for (int k = sph.offsets[q]; k < sph.offsets[q + 1]; ++k) {
@@ -98,7 +96,7 @@ void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLibers
   FirstError error;
   // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table; row I
   // writes only its own entries.
-#pragma omp parallel num_threads(threads) if (parallel(threads, n))
+#pragma omp parallel num_threads(threads) if (run_parallel(threads, n))
   {
     Eigen::MatrixXd Binv(dim, dim), Bi(dim, dim), Bt(dim, dim);
     Eigen::FullPivLU<Eigen::MatrixXd> lu(dim, dim);
@@ -144,7 +142,7 @@ void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLibers
     const int kd = diagonal_entry(sph, I);
     for (int d = 0; d < dim; ++d) H.grad[kd * dim + d] = G.grad[kd * dim + d];
   }
-#pragma omp parallel for schedule(static) num_threads(threads) if (parallel(threads, n))
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, n))
   for (int I = 0; I < n; ++I) {
     const int kd = diagonal_entry(sph, I);
     try {
@@ -188,7 +186,7 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
   t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
   t.hess.clear();
   FirstError error;
-#pragma omp parallel num_threads(std::max(1, threads)) if (parallel(threads, n))
+#pragma omp parallel num_threads(std::max(1, threads)) if (run_parallel(threads, n))
   {
     Eigen::MatrixXd M(dim, dim), a(dim, dim);
     Eigen::FullPivLU<Eigen::MatrixXd> lu(dim, dim);
