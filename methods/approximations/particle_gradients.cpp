@@ -149,10 +149,14 @@ void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLibers
       for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
         if (k == kd) continue;
         const int J = sph.index[k];
-        // Entry I of row J (rows share symmetric neighbour lists: constant dilation).
-        int kji = -1;
-        for (int m = sph.offsets[J]; m < sph.offsets[J + 1]; ++m)
-          if (sph.index[m] == I) kji = m;
+        // Entry I of row J (rows share symmetric neighbour lists: constant dilation). The
+        // kernel tables list rows in ascending particle index, so a binary search finds it; a
+        // table in another order is searched through.
+        const int* first = sph.index.data() + sph.offsets[J];
+        const int* last = sph.index.data() + sph.offsets[J + 1];
+        const int* it = std::lower_bound(first, last, I);
+        if (it == last || *it != I) it = std::find(first, last, I);
+        const int kji = it != last ? static_cast<int>(it - sph.index.data()) : -1;
         if (kji < 0)
           throw InputError("rlm needs symmetric neighbour lists (one dilation for all particles)");
         for (int d = 0; d < dim; ++d)
