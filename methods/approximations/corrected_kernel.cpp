@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -171,6 +172,36 @@ struct CorrectedKernelApproximation::PointEvaluator {
           a.name_, point_text(x, dim), k, need));
   }
 
+  /// The Shepard row (basis 1, order <= 1, exact derivatives): the moment matrix is the
+  /// number M = Σ w_J, its LDLT is M itself and the solves below are divisions by it, so this
+  /// is the general path's arithmetic, operation for operation, without the dynamic-size
+  /// machinery (1/M, then (0 − M_i γ)/M for the derivatives, M_i = Σ ∂_i w_J). Returns false,
+  /// leaving the row to the general path, where M is not a normal positive number (that path
+  /// then reports it exactly as before).
+  bool shepard(const PointScratch& sc, ShapeTable& t, int row0) const {
+    const std::size_t k = sc.nbrs.size();
+    const std::vector<double>&w = sc.w, &gw = sc.gw;
+    double M = 0;
+    for (std::size_t m = 0; m < k; ++m) M += w[m];
+    if (!(M >= std::numeric_limits<double>::min() && M <= std::numeric_limits<double>::max()))
+      return false;
+    const double gamma = 1.0 / M;
+    double gd[3] = {};
+    if (order >= 1)
+      for (int i = 0; i < dim; ++i) {
+        double Mi = 0;
+        for (std::size_t m = 0; m < k; ++m) Mi += gw[m * dim + i];
+        gd[i] = (0.0 - Mi * gamma) / M;
+      }
+    for (std::size_t m = 0; m < k; ++m) {
+      t.value[row0 + m] = gamma * w[m];
+      if (order >= 1)
+        for (int i = 0; i < dim; ++i)
+          t.grad[(row0 + m) * dim + i] = gd[i] * w[m] + gamma * gw[m * dim + i];
+    }
+    return true;
+  }
+
   /// Row of point x (its support already in sc, k = sc.nbrs.size()) into t from entry row0.
   void fill(const double* x, PointScratch& sc, ShapeTable& t, int row0) const {
     const CorrectedKernelOptions& o = a.options_;
@@ -218,6 +249,8 @@ struct CorrectedKernelApproximation::PointEvaluator {
       }
       return;
     }
+
+    if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return;
 
     // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
     Eigen::MatrixXd& P = sc.P;
