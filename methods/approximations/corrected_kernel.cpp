@@ -38,7 +38,7 @@ void basis_at(int order, int dim, const double* xi, double* p) {
 /// scaled column first, then times p_j), without its dynamic-size dispatch per call.
 void add_outer(Eigen::MatrixXd& M, double c, const double* p) {
   const Eigen::Index n = M.rows();
-  double cp[6];
+  double cp[10];  // the largest basis: quadratic in 3D (basis_size(2, 3))
   for (Eigen::Index i = 0; i < n; ++i) cp[i] = c * p[i];
   double* m = M.data();
   for (Eigen::Index j = 0; j < n; ++j)
