@@ -91,6 +91,7 @@ struct StaticSolveData : AnalysisResult {
 struct TransientData : AnalysisResult {
   double dt = 0, dt_critical = 0, end_time = 0;
   long steps = 0, retabulations = 0;
+  long neighbour_rebuilds = 0;  ///< Eulerian: fresh neighbour searches among the retabulations
   /// The run ended before its end time (unstable, or a problem's stop cap): peak values
   /// measured over it are lower bounds of what the full run would reach.
   bool stopped_early = false;

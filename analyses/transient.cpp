@@ -20,6 +20,11 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "kernel W(X - X_J) fixed at t = 0 (001 Table 1) or W(x - x_J(t)) "
                         "recomputed (Table 2)"),
       ParamSpec::count("update_every", 1, 1, "Eulerian kernel: steps between recomputations"),
+      ParamSpec::number("skin", 0.3,
+                        "Eulerian kernel: skin of the neighbour lists over the spacing, in "
+                        "[0, 10]; searched afresh only when points and particles have moved "
+                        "more than it (0: at every recomputation); the tables do not depend "
+                        "on it"),
       ParamSpec::choice("integrator", default_integrator, {"verlet", "newmark"},
                         "central differences (velocity Verlet) or the explicit Newmark "
                         "predictor-corrector of 004 III"),
@@ -40,6 +45,11 @@ DynamicsOptions dynamics_options(const Params& p) {
   DynamicsOptions o;
   o.frame = kernel_frame_from(p.text("frame"));
   o.update_every = p.integer("update_every");
+  o.neighbour_skin = p.number("skin");
+  if (!(o.neighbour_skin >= 0 && o.neighbour_skin <= 10))
+    throw InputError(fmt::format("skin = {} must be in [0, 10] (spacings); 0.3 is the default, "
+                                 "0 searches the neighbours afresh at every recomputation",
+                                 o.neighbour_skin));
   o.integrator = time_integrator_from(p.text("integrator"));
   o.newmark_gamma = p.number("gamma");
   o.viscosity.alpha = p.number("av_alpha");
@@ -188,6 +198,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   td.steps = done;
   td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;
+  td.neighbour_rebuilds = sim.counters().neighbour_rebuilds;
   m.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
 }
 
@@ -279,8 +290,10 @@ class TransientAnalysis final : public Analysis {
                        t.stopped_early
                            ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
                            : "",
-                       t.retabulations > 0 ? fmt::format(", {} retabulations", t.retabulations)
-                                           : "");
+                       t.retabulations > 0
+                           ? fmt::format(", {} retabulations ({} neighbour searches)",
+                                         t.retabulations, t.neighbour_rebuilds)
+                           : "");
     if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
     // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.
     const std::string missing = t.instability ? "not reached" : "–";

@@ -163,8 +163,14 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   PageParts page;
   page.lead = page_lead(*problem);
   page.methods = methods_list(section, [](const StudyResult& s) {
-    return fmt::format("`{}`: {}; {}", s.label, s.cases.front().method_description,
-                       s.cases.front().data<TransientData>().dynamics);
+    const TransientData& d = s.cases.back().data<TransientData>();
+    return fmt::format("`{}`: {}; {}{}", s.label, s.cases.front().method_description,
+                       s.cases.front().data<TransientData>().dynamics,
+                       d.retabulations > 0
+                           ? fmt::format(" ({} retabulations, {} neighbour searches at the "
+                                         "finest resolution)",
+                                         d.retabulations, d.neighbour_rebuilds)
+                           : "");
   });
 
   // The problem's chosen quantities side by side, one row per study (its finest case).

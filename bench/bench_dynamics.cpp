@@ -8,12 +8,22 @@
 ///   BM_DynamicsOrder/sph/N:<particles>/omp:<threads>/order:1
 ///       the largest SPH case with the particles randomly permuted before discretize (order:0
 ///       would be the lattice order of BM_Dynamics/sph), to show what memory order costs.
+///   BM_DynamicsFrame/<m>/omp:<threads>/eulerian:<0|1>/every:<n>
+///       the kernel frames of 001 Tables 1-2 on the 241 × 21 rod (5,061 particles): the
+///       Lagrangian run, then the Eulerian one with the tables recomputed every n = 1 or 30
+///       steps, 30 steps per iteration so every iteration holds whole update intervals.
+///       Counters step_ms (wall) and cpu_ms (process CPU) per step, and eul_over_lag: this
+///       case's CPU per step over the Lagrangian case's of the same method and thread count,
+///       measured earlier in the same process (the ratio of 001 §9.3 Tables 5-6), and
+///       eul_over_lag_wall the same in wall time; retab_ms, the extra CPU per recomputation,
+///       (eulerian - lagrangian) × n. Fixed step counts (600, 60, 300), each case from t = 0.
 /// Counters: items_per_second (particle-steps per second), particles, qpoints (integration
 /// points), setup_s (wall seconds of discretize for this case), rss_GB (resident set after the
 /// run). Speed is measured here only: tests assert no timings.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -23,10 +33,12 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "dynamics/explicit.hpp"
 #include "methods/particles.hpp"
@@ -246,6 +258,104 @@ bool register_dynamics_benchmarks() {
   configure(b, n);
   return true;
 }
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+constexpr int kFrameColumns = 241;  // 241 × 21 = 5,061 particles
+constexpr int kFrameSteps = 30;     // steps per iteration: a whole number of update intervals
+
+struct Timing {
+  double cpu = 0, wall = 0;  // seconds
+};
+/// Seconds per step of the Lagrangian run per (method, threads), for the Eulerian ratios.
+std::map<std::string, Timing>& lagrangian_per_step() {
+  static std::map<std::string, Timing> m;
+  return m;
+}
+
+void frame_case(benchmark::State& state, const std::string& method, int threads, bool eulerian,
+                int every) {
+  // A fixed iteration count: the library calls this once per case, and each case starts from
+  // t = 0 with its own engine.
+  const ParticleSet p =
+      rectangle_lattice(rod(), kFrameColumns, rows_of(kFrameColumns), Placement::boundary);
+  std::unique_ptr<Method> m;
+  std::unique_ptr<ExplicitDynamics> sim;
+  double dt = 0;
+  try {
+    m = catalogue().methods.create(method);
+    DynamicsOptions opt;
+    opt.frame = eulerian ? KernelFrame::eulerian : KernelFrame::lagrangian;
+    opt.update_every = every;
+    opt.threads = threads;
+    sim = std::make_unique<ExplicitDynamics>(*m, m->discretize(rod(), p, 1), rod_model(p), opt);
+    set_rod_velocity(*sim, p);
+    dt = 0.8 * critical_ratio(method) * p.spacing / std::sqrt(kYoung / kDensity);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  double cpu = 0, wall = 0;
+  for (auto _ : state) {
+    const double c0 = process_cpu_seconds();
+    const auto w0 = std::chrono::steady_clock::now();
+    for (int s = 0; s < kFrameSteps; ++s) sim->step(dt);
+    cpu += process_cpu_seconds() - c0;
+    wall += seconds_since(w0);
+    benchmark::DoNotOptimize(sim->velocity().data());
+    benchmark::ClobberMemory();
+  }
+  if (!std::isfinite(sim->kinetic_energy())) {
+    state.SkipWithError("the run blew up (non-finite kinetic energy)");
+    return;
+  }
+  const double steps = static_cast<double>(state.iterations()) * kFrameSteps;
+  const Timing per_step{cpu / steps, wall / steps};
+  const std::string lag_key = fmt::format("{}/{}", method, threads);
+  state.SetItemsProcessed(static_cast<std::int64_t>(steps) * p.size());
+  state.counters["particles"] = p.size();
+  state.counters["qpoints"] = sim->discretization().quadrature.size();
+  state.counters["step_ms"] = 1e3 * per_step.wall;
+  state.counters["cpu_ms"] = 1e3 * per_step.cpu;
+  if (!eulerian) {
+    lagrangian_per_step()[lag_key] = per_step;
+    return;
+  }
+  state.counters["retabulations"] = static_cast<double>(sim->counters().retabulations);
+  if (auto it = lagrangian_per_step().find(lag_key); it != lagrangian_per_step().end()) {
+    state.counters["eul_over_lag"] = per_step.cpu / it->second.cpu;
+    state.counters["eul_over_lag_wall"] = per_step.wall / it->second.wall;
+    state.counters["retab_ms"] = 1e3 * (per_step.cpu - it->second.cpu) * every;
+  }
+}
+
+bool register_frame_benchmarks() {
+  // The Lagrangian case of a (method, thread count) first: the Eulerian ratios divide by it.
+  // Fixed step counts (not a minimum time): the same work before and after a change, and no
+  // run long enough for the rod to go unstable (rlm's Lagrangian run blows up after a few
+  // thousand steps). 600 steps Lagrangian, 60 Eulerian every step, 300 every 30th step.
+  for (const char* method : kMethods)
+    for (int t : kThreads)
+      for (const auto& [eulerian, every, iterations] :
+           {std::tuple{0, 1, 20}, std::tuple{1, 1, 2}, std::tuple{1, 30, 10}})
+        benchmark::RegisterBenchmark(
+            fmt::format("BM_DynamicsFrame/{}/omp:{}/eulerian:{}/every:{}", method, t, eulerian,
+                        every)
+                .c_str(),
+            [method, t, eulerian, every](benchmark::State& s) {
+              frame_case(s, method, t, eulerian != 0, every);
+            })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->Iterations(iterations);
+  return true;
+}
+
+[[maybe_unused]] const bool kFrameRegistered = register_frame_benchmarks();
 
 // Registered during static initialization, like bench_cantilever.cpp.
 [[maybe_unused]] const bool kRegistered = register_dynamics_benchmarks();

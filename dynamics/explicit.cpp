@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
 
 namespace mfv {
@@ -18,8 +19,6 @@ namespace mfv {
 namespace {
 
 constexpr int kChunk = 256;  // integration points per material call
-// Below this many points or particles a parallel region costs more than it saves.
-constexpr int kParallelMinimum = 4096;
 
 /// Kinematics and stresses of one chunk of points [q0, q1): the deformation gradient (from u
 /// in the Lagrangian frame, from the increment du and the stored F in the Eulerian one), the
@@ -208,7 +207,14 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
     throw InputError(fmt::format("Newmark gamma = {} below 1/2 is unstable; use 0.5 or more",
                                  opt_.newmark_gamma));
   if (opt_.threads <= 0) opt_.threads = omp_get_max_threads();
+  // A skin of many spacings lists nearly every particle for every point (quadratic memory).
+  if (!(opt_.neighbour_skin >= 0 && opt_.neighbour_skin <= 10))
+    throw InputError(fmt::format("neighbour skin = {} (over the spacing) must be a number in "
+                                 "[0, 10]; 0.3 is the default, 0 searches afresh at every "
+                                 "recomputation",
+                                 opt_.neighbour_skin));
   spacing_ = d_.particles.spacing;
+  retabulation_ = Retabulation(opt_.neighbour_skin * spacing_, opt_.threads);
   wave_speed_ = model_.material->wave_speed(dim_, model_.density);
   const int m = dim_ * n_;
   u_ = v_ = a_ = f_int_ = f_ext_ = Eigen::VectorXd::Zero(m);
@@ -262,18 +268,49 @@ void ExplicitDynamics::build_force_tables() {
   const ShapeTable& t = d_.test_q;
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
     throw std::logic_error("explicit dynamics needs first derivatives of the test functions");
-  tt_offsets_.assign(n_ + 1, 0);
-  for (int e = 0; e < t.entries(); ++e) ++tt_offsets_[t.index[e] + 1];
-  for (int I = 0; I < n_; ++I) tt_offsets_[I + 1] += tt_offsets_[I];
+  // A counting sort of the entries by particle, the points split into one contiguous chunk
+  // per thread: thread k's entries of particle I go after those of threads < k, so every
+  // particle lists its points in ascending order, as the serial sort does.
+  const int threads = nq_ > kParallelMinimum ? opt_.threads : 1;
+  const std::size_t stride = static_cast<std::size_t>(n_) + 1;
+  tt_next_.assign(threads * stride, 0);
+  auto chunk = [&](int k, int& q0, int& q1) {
+    q0 = static_cast<int>(static_cast<long>(nq_) * k / threads);
+    q1 = static_cast<int>(static_cast<long>(nq_) * (k + 1) / threads);
+  };
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* count = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int e = t.offsets[q0]; e < t.offsets[q1]; ++e) ++count[t.index[e]];
+  }
+  tt_offsets_.resize(n_ + 1);
+  int base = 0;
+  for (int I = 0; I < n_; ++I) {
+    tt_offsets_[I] = base;
+    for (int k = 0; k < threads; ++k) {
+      int& slot = tt_next_[k * stride + I];
+      const int c = slot;
+      slot = base;  // the count becomes thread k's first slot for particle I
+      base += c;
+    }
+  }
+  tt_offsets_[n_] = base;
   tt_point_.resize(t.entries());
   tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
-  std::vector<int> next(tt_offsets_.begin(), tt_offsets_.end() - 1);
-  for (int q = 0; q < nq_; ++q)
-    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
-      const int slot = next[t.index[e]]++;
-      tt_point_[slot] = q;
-      for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
-    }
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* next = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int q = q0; q < q1; ++q)
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+        const int slot = next[t.index[e]]++;
+        tt_point_[slot] = q;
+        for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
+      }
+  }
 }
 
 void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,
@@ -552,11 +589,15 @@ void ExplicitDynamics::retabulate() {
     const double* F = F_.data() + dd * q;
     return dim_ == 1 ? F[0] : F[0] * F[3] - F[1] * F[2];
   };
-  Eigen::MatrixXd x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
-  Eigen::VectorXd V = V0_;
+  // Into the discretization's own storage: no allocation per recomputation.
+  Eigen::MatrixXd& x = d_.particles.x;
+  x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
+  Eigen::VectorXd& V = d_.particles.volume;
+  V = V0_;
   const int nodal = d_.quadrature.nodal_points;
   for (int I = 0; I < std::min(n_, nodal); ++I) V[I] *= jac(I);
-  Eigen::MatrixXd xq = Xq_;
+  Eigen::MatrixXd& xq = d_.quadrature.points;
+  xq = Xq_;
   // The points move with the material: the t = 0 values place them at X_q + u^h(X_q). (The
   // current table would evaluate u at the point's current position with the current
   // supports, a lagged estimate that loses stress points under large strain.)
@@ -571,15 +612,13 @@ void ExplicitDynamics::retabulate() {
     for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e)
       for (int c = 0; c < dim_; ++c) xq(c, q) += t.value[e] * u_[dim_ * t.index[e] + c];
   }
-  d_.particles.x = x;
-  d_.particles.volume = V;
-  d_.quadrature.points = xq;
   for (int q = 0; q < nq_; ++q) d_.quadrature.weights[q] = w0_[q] * jac(q);
-  method_.retabulate(d_, 1);
+  method_.retabulate(d_, 1, retabulation_);
   if (d_.trial_q.points() != nq_ || d_.test_q.points() != nq_)
     throw std::logic_error("a method's retabulation changed its integration points");
   build_force_tables();
   ++counters_.retabulations;
+  counters_.neighbour_rebuilds = retabulation_.rebuilds();
 }
 
 double ExplicitDynamics::kinetic_energy() const {
@@ -670,8 +709,10 @@ std::string ExplicitDynamics::description() const {
   return fmt::format(
       "{} kernel{}, {}, {}, {}, {} thread{}",
       opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
-      opt_.frame == KernelFrame::eulerian ? fmt::format(" (tables every {} steps)", opt_.update_every)
-                                          : "",
+      opt_.frame == KernelFrame::eulerian
+          ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx)", opt_.update_every,
+                        opt_.neighbour_skin)
+          : "",
       opt_.integrator == TimeIntegrator::verlet
           ? "central differences (velocity Verlet)"
           : fmt::format("explicit Newmark predictor-corrector gamma={:g}", opt_.newmark_gamma),

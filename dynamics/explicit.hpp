@@ -39,6 +39,12 @@ struct ArtificialViscosity {
 struct DynamicsOptions {
   KernelFrame frame = KernelFrame::lagrangian;
   int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
+  /// Eulerian: skin of the neighbour (Verlet) lists over the particle spacing; the lists are
+  /// searched afresh only when the largest point move plus the largest particle move since
+  /// the last search exceeds it (methods/neighbours.hpp). 0.3 Δx: a rebuild every few
+  /// retabulations at the rod's strain rates, lists ~1.3² longer than the supports. 0 searches
+  /// afresh at every recomputation. The tables do not depend on it.
+  double neighbour_skin = 0.3;
   TimeIntegrator integrator = TimeIntegrator::verlet;
   double newmark_gamma = 0.5;
   ArtificialViscosity viscosity;
@@ -92,6 +98,7 @@ struct EnergyBalance {
 /// CPU-free counters of what the engine did (timings are the caller's).
 struct DynamicsCounters {
   long steps = 0, retabulations = 0;
+  long neighbour_rebuilds = 0;  ///< Eulerian: fresh neighbour searches of the retabulations
 };
 
 class ExplicitDynamics {
@@ -198,8 +205,10 @@ class ExplicitDynamics {
   ShapeTable values_at_points0_;
   // Transposed test table with the reference weights folded in: for particle I the entries
   // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
-  std::vector<int> tt_offsets_, tt_point_;
+  std::vector<int> tt_offsets_, tt_point_, tt_next_;
   std::vector<double> tt_grad_;
+  /// Eulerian kernel: neighbour lists and table storage kept between recomputations.
+  Retabulation retabulation_;
   // Per integration point: F (Eulerian: integrated in time), the stress the force sums
   // (P, or the Kirchhoff stress τ = J σ in the Eulerian frame), material history.
   mutable std::vector<double> F_, stress_, state_, scratch_F_;

@@ -2,11 +2,13 @@
 /// linear reproduction of values, first and second derivatives to round-off, on uniform and
 /// on randomly perturbed particles; SPH is held to its known boundary defect instead.
 #include <cmath>
+#include <algorithm>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 #include "test_support.hpp"
 
 namespace mfv {
@@ -146,6 +148,175 @@ TEST(Approximations, SingularMomentMatrixNamesThePoint) {
     EXPECT_NE(m.find("(0.05)"), std::string::npos) << m;
     EXPECT_NE(m.find("increase the dilation"), std::string::npos) << m;
   }
+}
+
+}  // namespace
+}  // namespace mfv
+
+namespace mfv {
+namespace {
+
+/// A random cloud of n points in the unit square.
+Eigen::MatrixXd random_cloud(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::MatrixXd x(2, n);
+  for (int j = 0; j < n; ++j) x.col(j) = Eigen::Vector2d(u(rng), u(rng));
+  return x;
+}
+
+/// Every column moved by a random vector of length exactly `length`.
+void move_by(Eigen::MatrixXd& x, double length, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI);
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    const double a = angle(rng);
+    x.col(j) += length * Eigen::Vector2d(std::cos(a), std::sin(a));
+  }
+}
+
+/// The lists' candidates hold every particle within r of each point (the brute-force set).
+void expect_complete(const NeighbourLists& lists, const Eigen::MatrixXd& particles,
+                     const Eigen::MatrixXd& points, double r, const char* when) {
+  for (Eigen::Index q = 0; q < points.cols(); ++q) {
+    const auto c = lists.candidates(static_cast<int>(q));
+    EXPECT_TRUE(std::is_sorted(c.begin(), c.end())) << when << ", point " << q;
+    for (Eigen::Index J = 0; J < particles.cols(); ++J)
+      if ((points.col(q) - particles.col(J)).norm() < r)
+        EXPECT_TRUE(std::binary_search(c.begin(), c.end(), static_cast<int>(J)))
+            << when << ": particle " << J << " missing from point " << q;
+  }
+}
+
+TEST(NeighbourLists, HoldTheBruteForceSetsBelowAndAboveHalfTheSkin) {
+  Eigen::MatrixXd x = random_cloud(500, 3), y = random_cloud(300, 4);
+  const double r = 0.1, skin = 0.04;
+  NeighbourLists lists(skin);
+  EXPECT_TRUE(lists.update(x, y, r));
+  expect_complete(lists, x, y, r, "fresh");
+  // Candidates stop at r + skin: the lists are Verlet lists, not every particle.
+  for (Eigen::Index q = 0; q < y.cols(); ++q)
+    for (int J : lists.candidates(static_cast<int>(q)))
+      EXPECT_LE((y.col(q) - x.col(J)).norm(), (r + skin) * (1 + 1e-9));
+  // Points and particles each moved by 0.45 skin: 0.9 skin together, no search.
+  move_by(x, 0.45 * skin, 5);
+  move_by(y, 0.45 * skin, 6);
+  EXPECT_FALSE(lists.update(x, y, r));
+  EXPECT_EQ(lists.rebuilds(), 1);
+  expect_complete(lists, x, y, r, "after 0.45 skin");
+  // Another 0.1 skin each: 1.1 skin since the search, past what the lists guarantee.
+  move_by(x, 0.1 * skin, 7);
+  move_by(y, 0.1 * skin, 8);
+  EXPECT_TRUE(lists.update(x, y, r));
+  EXPECT_EQ(lists.rebuilds(), 2);
+  expect_complete(lists, x, y, r, "after 0.55 skin");
+  // A larger radius, or another point count, searches again.
+  EXPECT_TRUE(lists.update(x, y, 1.5 * r));
+  EXPECT_TRUE(lists.update(x, y.leftCols(10), 1.5 * r));
+  EXPECT_EQ(lists.rebuilds(), 4);
+  // Skin 0 searches whenever anything moved, and only then.
+  NeighbourLists fresh(0);
+  EXPECT_TRUE(fresh.update(x, y, r));
+  EXPECT_FALSE(fresh.update(x, y, r));
+  move_by(x, 1e-12, 9);
+  EXPECT_TRUE(fresh.update(x, y, r));
+  for (double bad : {-0.1, std::nan(""), HUGE_VAL}) EXPECT_THROW(NeighbourLists{bad}, InputError);
+}
+
+/// Every corrected-kernel variant: the in-place evaluation with stale (skin) lists on 1 and 2
+/// threads gives the fresh evaluate()'s table bit for bit.
+struct Variant {
+  const char* approximation;
+  const char* params;
+};
+
+class FastEvaluate : public ::testing::TestWithParam<Variant> {};
+
+void expect_identical(const ShapeTable& a, const ShapeTable& b, const std::string& what) {
+  EXPECT_EQ(a.dim, b.dim) << what;
+  EXPECT_EQ(a.order, b.order) << what;
+  EXPECT_EQ(a.offsets, b.offsets) << what;
+  EXPECT_EQ(a.index, b.index) << what;
+  // == on doubles: bit for bit (no NaN in these tables).
+  EXPECT_EQ(a.value, b.value) << what;
+  EXPECT_EQ(a.grad, b.grad) << what;
+  EXPECT_EQ(a.hess, b.hess) << what;
+}
+
+TEST_P(FastEvaluate, EqualsTheFreshEvaluationBitForBit) {
+  const Variant v = GetParam();
+  const auto approx = test_catalogue().approximations.create(v.approximation, Params::parse(v.params));
+  ParticleSet p;
+  p.dim = 2;
+  p.x = random_cloud(400, 21);
+  p.volume = Eigen::VectorXd::Constant(400, 1.0 / 400);
+  p.spacing = 0.05;
+  // Dilations that differ per particle: supports not symmetric, the search radius the largest.
+  p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
+  // More points than kParallelMinimum: the 2-thread evaluation runs in parallel.
+  Eigen::MatrixXd points = random_cloud(5000, 22).array() * 0.8 + 0.1;
+  ASSERT_GT(points.cols(), kParallelMinimum);
+  NeighbourLists lists1(0.02), lists2(0.02);
+  ShapeTable t1, t2;
+  for (int round = 0; round < 3; ++round) {
+    // Moves of 0.004 per round: the first two rounds reuse the lists of round 0.
+    if (round > 0) {
+      move_by(p.x, 0.004, 30 + round);
+      move_by(points, 0.004, 40 + round);
+    }
+    const std::string what = fmt::format("{} {} round {}", v.approximation, v.params, round);
+    const ShapeTable fresh = approx->evaluate(p, points, 2);
+    approx->evaluate_into(p, points, 2, lists1, 1, t1);
+    approx->evaluate_into(p, points, 2, lists2, 2, t2);
+    expect_identical(fresh, t1, what + ", 1 thread");
+    expect_identical(fresh, t2, what + ", 2 threads");
+  }
+  EXPECT_EQ(lists1.rebuilds(), 1);
+  EXPECT_EQ(lists2.rebuilds(), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryCorrectedKernel, FastEvaluate,
+    ::testing::Values(Variant{"shepard", ""}, Variant{"mls", ""}, Variant{"mls", "basis=2"},
+                      Variant{"mls", "derivative=diffuse"}, Variant{"mls", "basis=0"},
+                      Variant{"rkpm", "kernel=cubic-window"},
+                      Variant{"rkpm", "kernel=cubic-window,derivative=diffuse"},
+                      Variant{"sph", "kernel=cubic-spline"}),
+    [](const auto& info) {
+      std::string n = std::string(info.param.approximation) + "_" + info.param.params;
+      for (char& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+TEST(FastEvaluate, ThrowsTheLowestPointsErrorOnAnyThreadCount) {
+  const auto mls = test_catalogue().approximations.create("mls");
+  ParticleSet p;
+  p.dim = 2;
+  p.x = random_cloud(300, 50);
+  p.volume = Eigen::VectorXd::Constant(300, 1.0 / 300);
+  p.dilation = Eigen::VectorXd::Constant(300, 0.12);
+  // Points 2500 and 4500 (of 5000: a parallel loop) lie far outside the cloud: no particle
+  // covers them.
+  // The others inside [0.1, 0.9]², where every point has a support of ~40 particles.
+  Eigen::MatrixXd points = random_cloud(5000, 51).array() * 0.8 + 0.1;
+  points.col(4500) << 5, 5;
+  points.col(2500) << 3, 3;
+  std::string serial, parallel;
+  NeighbourLists l1(0.01), l2(0.01);
+  ShapeTable t;
+  try {
+    mls->evaluate_into(p, points, 1, l1, 1, t);
+  } catch (const SingularError& e) {
+    serial = e.what();
+  }
+  try {
+    mls->evaluate_into(p, points, 1, l2, 2, t);
+  } catch (const SingularError& e) {
+    parallel = e.what();
+  }
+  EXPECT_NE(serial.find("(3, 3)"), std::string::npos) << serial;
+  EXPECT_EQ(serial, parallel);
 }
 
 }  // namespace

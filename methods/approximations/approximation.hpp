@@ -9,6 +9,7 @@
 #include "methods/approximations/shape_table.hpp"
 #include "methods/core/registry.hpp"
 #include "methods/kernels/kernel.hpp"
+#include "methods/neighbours.hpp"
 #include "methods/particles.hpp"
 
 namespace mfv {
@@ -20,6 +21,16 @@ class Approximation {
   /// Throws SingularError naming the point when a moment matrix cannot be inverted.
   virtual ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
                               int order) const = 0;
+  /// evaluate() into `out` in place (its vectors' storage reused), for recomputations at moved
+  /// positions (Eulerian kernels): the neighbour candidates come from `lists`, updated here
+  /// (rebuilt only when the particles or points moved past its skin), and the points are
+  /// spread over `threads` OpenMP threads. The table equals evaluate()'s bit for bit, on any
+  /// thread count. The default calls evaluate() and ignores the lists.
+  virtual void evaluate_into(const ParticleSet& particles, const Eigen::MatrixXd& points,
+                             int order, NeighbourLists& lists, int threads,
+                             ShapeTable& out) const {
+    out = evaluate(particles, points, order);
+  }
   /// Fewest particles a point's support must hold (the size of the polynomial basis).
   virtual int minimum_support_count(int dim) const = 0;
   /// Whether N_J(x_I) = δ_IJ (then essential conditions can be imposed directly).
@@ -47,11 +58,16 @@ class CorrectedKernelApproximation final : public Approximation {
                                std::string name);
   ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
                       int order) const override;
+  void evaluate_into(const ParticleSet& particles, const Eigen::MatrixXd& points, int order,
+                     NeighbourLists& lists, int threads, ShapeTable& out) const override;
   int minimum_support_count(int dim) const override;
   int reproduction_order() const override { return options_.correct ? options_.basis_order : -1; }
+  /// The search radius of a point: the kernel's support times the largest dilation.
+  double search_radius(const ParticleSet& particles) const;
   const Kernel& kernel() const { return *kernel_; }
 
  private:
+  struct PointEvaluator;  // one point's row; corrected_kernel.cpp
   std::shared_ptr<const Kernel> kernel_;
   CorrectedKernelOptions options_;
   std::string name_;

@@ -1,12 +1,16 @@
 /// Moment-corrected kernel approximation: Shepard, MLS/EFG, RKPM and SPH in one composition.
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <limits>
+#include <span>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "methods/approximations/approximation.hpp"
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
 
 namespace mfv {
@@ -30,6 +34,17 @@ void basis_at(int order, int dim, const double* xi, double* p) {
     for (int j = i; j < dim; ++j) p[k++] = xi[i] * xi[j];
 }
 
+/// M += c p pᵀ, element by element as Eigen's outer product M += (c p) pᵀ does it (the
+/// scaled column first, then times p_j), without its dynamic-size dispatch per call.
+void add_outer(Eigen::MatrixXd& M, double c, const double* p) {
+  const Eigen::Index n = M.rows();
+  double cp[10];  // the largest basis: quadratic in 3D (basis_size(2, 3))
+  for (Eigen::Index i = 0; i < n; ++i) cp[i] = c * p[i];
+  double* m = M.data();
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = 0; i < n; ++i) m[i + n * j] += p[j] * cp[i];
+}
+
 std::string point_text(const double* x, int dim) {
   std::string s = "(";
   for (int d = 0; d < dim; ++d) s += fmt::format("{}{:.6g}", d ? ", " : "", x[d]);
@@ -47,142 +62,63 @@ int CorrectedKernelApproximation::minimum_support_count(int dim) const {
   return options_.correct ? basis_size(options_.basis_order, dim) : 1;
 }
 
-ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
-                                                  const Eigen::MatrixXd& points, int order) const {
-  const int dim = particles.dim;
-  if (points.rows() != dim)
-    throw std::logic_error("evaluation points and particles differ in dimension");
-  if (particles.size() == 0) throw InputError("no particles to build shape functions from");
-  const double support = kernel_->support();
-  const double amax = particles.dilation.maxCoeff();
-  if (!(particles.dilation.minCoeff() > 0))
-    throw InputError(fmt::format("{}: every particle needs a positive dilation (support size); "
-                                 "got a minimum of {}: raise the support parameter (dmax, radius, "
-                                 "or j for RKPM windows 2^j)",
-                                 name_, particles.dilation.minCoeff()));
-  const double kernel_scale = options_.normalize_kernel ? 1.0 / kernel_->integral(dim) : 1.0;
-  const int nb = options_.correct ? basis_size(options_.basis_order, dim) : 0;
-  const int nh = dim * dim;
+double CorrectedKernelApproximation::search_radius(const ParticleSet& particles) const {
+  return kernel_->support() * particles.dilation.maxCoeff();
+}
 
-  NeighbourSearch search(particles);
-  ShapeTable t;
-  t.dim = dim;
-  t.order = order;
-  t.offsets.assign(1, 0);
-  t.offsets.reserve(points.cols() + 1);
+namespace {
 
+/// One thread's work space for the points it evaluates: sized on the first point, reused by
+/// the next ones (no allocation per point once the largest support has been seen).
+struct PointScratch {
   std::vector<int> nbrs;
   std::vector<double> s, W, dW, d2W, w, gw, hw, r;
-  Eigen::MatrixXd P;  // nb × k basis at neighbours
-  Eigen::MatrixXd M(nb, nb), Md[3], Mdd[9];
-  for (int i = 0; i < dim; ++i) Md[i].resize(nb, nb);
-  for (int i = 0; i < nh; ++i) Mdd[i].resize(nb, nb);
+  Eigen::MatrixXd P, M, Md[3], Mdd[9];  // basis at the neighbours; moment matrix, derivatives
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  Eigen::VectorXd p0, gamma, gd[3], gdd[9];
+};
 
-  for (Eigen::Index q = 0; q < points.cols(); ++q) {
-    const double* x = points.col(q).data();
-    search.within(x, support * amax, nbrs);
-    // Keep particles whose own support (dilation a_J) covers x.
-    const std::size_t n0 = nbrs.size();
-    s.resize(n0);
-    r.resize(n0 * dim);
-    std::size_t k = 0;
-    for (std::size_t m = 0; m < n0; ++m) {
-      const int J = nbrs[m];
-      double dist2 = 0;
-      for (int d = 0; d < dim; ++d) {
-        const double dd = x[d] - particles.x(d, J);
-        r[k * dim + d] = dd;
-        dist2 += dd * dd;
-      }
-      const double sj = std::sqrt(dist2) / particles.dilation[J];
-      if (sj < support) {
-        nbrs[k] = J;
-        s[k] = sj;
-        ++k;
-      }
-    }
-    nbrs.resize(k);
-    s.resize(k);
-    if (static_cast<int>(k) < std::max(1, minimum_support_count(dim)))
-      throw SingularError(fmt::format(
-          "{}: the point {} lies in the support of only {} particle(s) but the basis needs {}; "
-          "increase the dilation (support size) or add particles",
-          name_, point_text(x, dim), k, std::max(1, minimum_support_count(dim))));
-    W.resize(k);
-    dW.resize(k);
-    d2W.resize(k);
-    kernel_->evaluate(s, W, order >= 1 ? std::span<double>(dW) : std::span<double>{},
-                      order >= 2 ? std::span<double>(d2W) : std::span<double>{});
-    // Weights w_J(x) and their x-derivatives.
-    w.assign(k, 0);
-    gw.assign(k * dim, 0);
-    hw.assign(k * nh, 0);
-    for (std::size_t m = 0; m < k; ++m) {
-      const int J = nbrs[m];
-      const double a = particles.dilation[J];
-      double c = kernel_scale / std::pow(a, dim);
-      if (options_.volume_weighted) c *= particles.volume[J];
-      w[m] = c * W[m];
-      if (order < 1) continue;
-      const double dist = s[m] * a;
-      const double* rr = &r[m * dim];
-      if (dist < 1e-14 * a) {
-        for (int i = 0; i < dim; ++i) hw[m * nh + i * dim + i] = c * d2W[m] / (a * a);
-        continue;
-      }
-      for (int i = 0; i < dim; ++i) gw[m * dim + i] = c * dW[m] * rr[i] / (dist * a);
-      if (order < 2) continue;
-      for (int i = 0; i < dim; ++i)
-        for (int j = 0; j < dim; ++j) {
-          const double ninj = rr[i] * rr[j] / (dist * dist);
-          hw[m * nh + i * dim + j] =
-              c * (d2W[m] * ninj / (a * a) + dW[m] / (a * dist) * ((i == j) - ninj));
+}  // namespace
+
+/// The moment-corrected shape functions at x into the table's rows starting at entry row0,
+/// from the candidate particles `cand` (ascending index, a superset of the support).
+struct CorrectedKernelApproximation::PointEvaluator {
+  const CorrectedKernelApproximation& a;
+  const ParticleSet& particles;
+  int order, dim, nb, nh;
+  double support, amax, kernel_scale;
+  Eigen::VectorXd pd[3], pdd[9];  // derivatives of p at ξ = 0 (constant: scaled by amax)
+  /// The weight factor of each particle, kernel_scale / a_J^d [ΔV_J], when the points are
+  /// many (one pow per particle instead of one per entry); empty: computed per entry.
+  std::vector<double> factor;
+
+  PointEvaluator(const CorrectedKernelApproximation& approx, const ParticleSet& p, int ord,
+                 Eigen::Index points)
+      : a(approx), particles(p), order(ord), dim(p.dim) {
+    const CorrectedKernelOptions& o = a.options_;
+    support = a.kernel_->support();
+    amax = particles.dilation.maxCoeff();
+    kernel_scale = o.normalize_kernel ? 1.0 / a.kernel_->integral(dim) : 1.0;
+    if (4 * points >= particles.size()) {
+      factor.resize(particles.size());
+      // Dilations are mostly one value: pow once per run of equal ones (the same number).
+      double a_last = std::nan(""), scaled = 0;
+      for (int J = 0; J < particles.size(); ++J) {
+        const double aj = particles.dilation[J];
+        if (!(aj == a_last)) {
+          a_last = aj;
+          scaled = kernel_scale / std::pow(aj, dim);
         }
-    }
-
-    const int row0 = t.entries();
-    t.index.insert(t.index.end(), nbrs.begin(), nbrs.end());
-    t.value.resize(row0 + k);
-    if (order >= 1) t.grad.resize((row0 + k) * dim);
-    if (order >= 2) t.hess.resize((row0 + k) * nh);
-
-    if (!options_.correct) {
-      for (std::size_t m = 0; m < k; ++m) {
-        t.value[row0 + m] = w[m];
-        for (int i = 0; i < dim && order >= 1; ++i) t.grad[(row0 + m) * dim + i] = gw[m * dim + i];
-        for (int i = 0; i < nh && order >= 2; ++i) t.hess[(row0 + m) * nh + i] = hw[m * nh + i];
+        factor[J] = o.volume_weighted ? scaled * particles.volume[J] : scaled;
       }
-      t.offsets.push_back(t.entries());
-      continue;
     }
-
-    // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
-    P.resize(nb, static_cast<Eigen::Index>(k));
-    double xi[3];
-    for (std::size_t m = 0; m < k; ++m) {
-      for (int d = 0; d < dim; ++d) xi[d] = -r[m * dim + d] / amax;
-      basis_at(options_.basis_order, dim, xi, P.col(static_cast<Eigen::Index>(m)).data());
-    }
-    M.setZero();
-    for (std::size_t m = 0; m < k; ++m) M.noalias() += w[m] * P.col(m) * P.col(m).transpose();
-    Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
-    const double rc = ldlt.rcond();
-    if (ldlt.info() != Eigen::Success || !(rc > 1e-13))
-      throw SingularError(fmt::format(
-          "{}: the moment matrix at {} is singular (reciprocal condition {:.2e}) with {} "
-          "particles in the support; they are too few or collinear for the basis: increase the "
-          "dilation or the particle count",
-          name_, point_text(x, dim), rc, k));
-
-    // p(x) and its derivatives at ξ = 0.
-    Eigen::VectorXd p0 = Eigen::VectorXd::Zero(nb);
-    p0[0] = 1;
-    Eigen::VectorXd gamma = ldlt.solve(p0);
-    std::vector<Eigen::VectorXd> pd(dim, Eigen::VectorXd::Zero(nb)), gd(dim);
-    std::vector<Eigen::VectorXd> pdd(nh, Eigen::VectorXd::Zero(nb)), gdd(nh);
-    if (options_.basis_order >= 1)
+    nb = o.correct ? basis_size(o.basis_order, dim) : 0;
+    nh = dim * dim;
+    for (int i = 0; i < dim; ++i) pd[i] = Eigen::VectorXd::Zero(nb);
+    for (int i = 0; i < nh; ++i) pdd[i] = Eigen::VectorXd::Zero(nb);
+    if (o.correct && o.basis_order >= 1)
       for (int i = 0; i < dim; ++i) pd[i][1 + i] = 1 / amax;
-    if (options_.basis_order >= 2) {
+    if (o.correct && o.basis_order >= 2) {
       int kk = 1 + dim;
       for (int i = 0; i < dim; ++i)
         for (int j = i; j < dim; ++j, ++kk) {
@@ -191,15 +127,172 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
           pdd[j * dim + i][kk] = v;
         }
     }
+  }
+
+  double weight_factor(int J) const {
+    double c = kernel_scale / std::pow(particles.dilation[J], dim);
+    if (a.options_.volume_weighted) c *= particles.volume[J];
+    return c;
+  }
+
+  /// Particles of `cand` whose own support (dilation a_J) covers x, with their offsets
+  /// r = x − x_J and scaled distances s = |r|/a_J, into the scratch.
+  std::size_t support_of(const double* x, std::span<const int> cand, PointScratch& sc) const {
+    const std::size_t n0 = cand.size();
+    sc.nbrs.resize(n0);
+    sc.s.resize(n0);
+    sc.r.resize(n0 * dim);
+    std::size_t k = 0;
+    for (std::size_t m = 0; m < n0; ++m) {
+      const int J = cand[m];
+      double dist2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double dd = x[d] - particles.x(d, J);
+        sc.r[k * dim + d] = dd;
+        dist2 += dd * dd;
+      }
+      const double sj = std::sqrt(dist2) / particles.dilation[J];
+      if (sj < support) {
+        sc.nbrs[k] = J;
+        sc.s[k] = sj;
+        ++k;
+      }
+    }
+    sc.nbrs.resize(k);
+    sc.s.resize(k);
+    return k;
+  }
+
+  void check_count(const double* x, std::size_t k) const {
+    const int need = std::max(1, a.minimum_support_count(dim));
+    if (static_cast<int>(k) < need)
+      throw SingularError(fmt::format(
+          "{}: the point {} lies in the support of only {} particle(s) but the basis needs {}; "
+          "increase the dilation (support size) or add particles",
+          a.name_, point_text(x, dim), k, need));
+  }
+
+  /// The Shepard row (basis 1, order <= 1, exact derivatives): the moment matrix is the
+  /// number M = Σ w_J, its LDLT is M itself and the solves below are divisions by it, so this
+  /// is the general path's arithmetic, operation for operation, without the dynamic-size
+  /// machinery (1/M, then (0 − M_i γ)/M for the derivatives, M_i = Σ ∂_i w_J). Returns false,
+  /// leaving the row to the general path, where M is not a normal positive number (that path
+  /// then reports it exactly as before).
+  bool shepard(const PointScratch& sc, ShapeTable& t, int row0) const {
+    const std::size_t k = sc.nbrs.size();
+    const std::vector<double>&w = sc.w, &gw = sc.gw;
+    double M = 0;
+    for (std::size_t m = 0; m < k; ++m) M += w[m];
+    if (!(M >= std::numeric_limits<double>::min() && M <= std::numeric_limits<double>::max()))
+      return false;
+    const double gamma = 1.0 / M;
+    double gd[3] = {};
+    if (order >= 1)
+      for (int i = 0; i < dim; ++i) {
+        double Mi = 0;
+        for (std::size_t m = 0; m < k; ++m) Mi += gw[m * dim + i];
+        gd[i] = (0.0 - Mi * gamma) / M;
+      }
+    for (std::size_t m = 0; m < k; ++m) {
+      t.value[row0 + m] = gamma * w[m];
+      if (order >= 1)
+        for (int i = 0; i < dim; ++i)
+          t.grad[(row0 + m) * dim + i] = gd[i] * w[m] + gamma * gw[m * dim + i];
+    }
+    return true;
+  }
+
+  /// Row of point x (its support already in sc, k = sc.nbrs.size()) into t from entry row0.
+  void fill(const double* x, PointScratch& sc, ShapeTable& t, int row0) const {
+    const CorrectedKernelOptions& o = a.options_;
+    const std::size_t k = sc.nbrs.size();
+    check_count(x, k);
+    std::vector<double>&s = sc.s, &W = sc.W, &dW = sc.dW, &d2W = sc.d2W, &w = sc.w, &gw = sc.gw,
+                       &hw = sc.hw, &r = sc.r;
+    W.resize(k);
+    dW.resize(k);
+    d2W.resize(k);
+    a.kernel_->evaluate(s, W, order >= 1 ? std::span<double>(dW) : std::span<double>{},
+                        order >= 2 ? std::span<double>(d2W) : std::span<double>{});
+    // Weights w_J(x) and their x-derivatives.
+    w.assign(k, 0);
+    gw.assign(k * dim, 0);
+    hw.assign(k * nh, 0);
+    for (std::size_t m = 0; m < k; ++m) {
+      const int J = sc.nbrs[m];
+      const double aj = particles.dilation[J];
+      const double c = factor.empty() ? weight_factor(J) : factor[J];
+      w[m] = c * W[m];
+      if (order < 1) continue;
+      const double dist = s[m] * aj;
+      const double* rr = &r[m * dim];
+      if (dist < 1e-14 * aj) {
+        for (int i = 0; i < dim; ++i) hw[m * nh + i * dim + i] = c * d2W[m] / (aj * aj);
+        continue;
+      }
+      for (int i = 0; i < dim; ++i) gw[m * dim + i] = c * dW[m] * rr[i] / (dist * aj);
+      if (order < 2) continue;
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) {
+          const double ninj = rr[i] * rr[j] / (dist * dist);
+          hw[m * nh + i * dim + j] =
+              c * (d2W[m] * ninj / (aj * aj) + dW[m] / (aj * dist) * ((i == j) - ninj));
+        }
+    }
+
+    std::copy(sc.nbrs.begin(), sc.nbrs.end(), t.index.begin() + row0);
+    if (!o.correct) {
+      for (std::size_t m = 0; m < k; ++m) {
+        t.value[row0 + m] = w[m];
+        for (int i = 0; i < dim && order >= 1; ++i) t.grad[(row0 + m) * dim + i] = gw[m * dim + i];
+        for (int i = 0; i < nh && order >= 2; ++i) t.hess[(row0 + m) * nh + i] = hw[m * nh + i];
+      }
+      return;
+    }
+
+    if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return;
+
+    // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
+    Eigen::MatrixXd& P = sc.P;
+    Eigen::MatrixXd& M = sc.M;
+    P.resize(nb, static_cast<Eigen::Index>(k));
+    M.resize(nb, nb);
+    double xi[3];
+    for (std::size_t m = 0; m < k; ++m) {
+      for (int d = 0; d < dim; ++d) xi[d] = -r[m * dim + d] / amax;
+      basis_at(o.basis_order, dim, xi, P.col(static_cast<Eigen::Index>(m)).data());
+    }
+    M.setZero();
+    for (std::size_t m = 0; m < k; ++m) add_outer(M, w[m], P.col(m).data());
+    Eigen::LDLT<Eigen::MatrixXd>& ldlt = sc.ldlt;
+    ldlt.compute(M);
+    const double rc = ldlt.rcond();
+    if (ldlt.info() != Eigen::Success || !(rc > 1e-13))
+      throw SingularError(fmt::format(
+          "{}: the moment matrix at {} is singular (reciprocal condition {:.2e}) with {} "
+          "particles in the support; they are too few or collinear for the basis: increase the "
+          "dilation or the particle count",
+          a.name_, point_text(x, dim), rc, k));
+
+    // p(x) and its derivatives at ξ = 0.
+    sc.p0.setZero(nb);
+    sc.p0[0] = 1;
+    Eigen::VectorXd& gamma = sc.gamma;
+    gamma = ldlt.solve(sc.p0);
+    Eigen::VectorXd* gd = sc.gd;
+    Eigen::VectorXd* gdd = sc.gdd;
+    Eigen::MatrixXd* Md = sc.Md;
+    Eigen::MatrixXd* Mdd = sc.Mdd;
     if (order >= 1) {
       for (int i = 0; i < dim; ++i) {
-        if (options_.diffuse_derivative) {
+        if (o.diffuse_derivative) {
           gd[i] = ldlt.solve(pd[i]);
           continue;
         }
+        Md[i].resize(nb, nb);
         Md[i].setZero();
         for (std::size_t m = 0; m < k; ++m)
-          Md[i].noalias() += gw[m * dim + i] * P.col(m) * P.col(m).transpose();
+          add_outer(Md[i], gw[m * dim + i], P.col(m).data());
         gd[i] = ldlt.solve(pd[i] - Md[i] * gamma);
       }
     }
@@ -207,13 +300,14 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
       for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j) {
           const int ij = i * dim + j;
-          if (options_.diffuse_derivative) {
+          if (o.diffuse_derivative) {
             gdd[ij] = ldlt.solve(pdd[ij]);
             continue;
           }
+          Mdd[ij].resize(nb, nb);
           Mdd[ij].setZero();
           for (std::size_t m = 0; m < k; ++m)
-            Mdd[ij].noalias() += hw[m * nh + ij] * P.col(m) * P.col(m).transpose();
+            add_outer(Mdd[ij], hw[m * nh + ij], P.col(m).data());
           gdd[ij] = ldlt.solve(pdd[ij] - Md[i] * gd[j] - Md[j] * gd[i] - Mdd[ij] * gamma);
         }
     }
@@ -224,7 +318,7 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
       if (order >= 1)
         for (int i = 0; i < dim; ++i) {
           double v = gd[i].dot(pj) * w[m];
-          if (!options_.diffuse_derivative) v += gp * gw[m * dim + i];
+          if (!o.diffuse_derivative) v += gp * gw[m * dim + i];
           t.grad[(row0 + m) * dim + i] = v;
         }
       if (order >= 2)
@@ -232,15 +326,79 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
           for (int j = 0; j < dim; ++j) {
             const int ij = i * dim + j;
             double v = gdd[ij].dot(pj) * w[m];
-            if (!options_.diffuse_derivative)
+            if (!o.diffuse_derivative)
               v += gd[i].dot(pj) * gw[m * dim + j] + gd[j].dot(pj) * gw[m * dim + i] +
                    gp * hw[m * nh + ij];
             t.hess[(row0 + m) * nh + ij] = v;
           }
     }
-    t.offsets.push_back(t.entries());
   }
+};
+
+ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
+                                                  const Eigen::MatrixXd& points, int order) const {
+  // A fresh search (skin 0) on one thread: the table every caller has always had.
+  NeighbourLists lists(0);
+  ShapeTable t;
+  evaluate_into(particles, points, order, lists, 1, t);
   return t;
+}
+
+void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
+                                                 const Eigen::MatrixXd& points, int order,
+                                                 NeighbourLists& lists, int threads,
+                                                 ShapeTable& t) const {
+  const int dim = particles.dim;
+  if (points.rows() != dim)
+    throw std::logic_error("evaluation points and particles differ in dimension");
+  if (particles.size() == 0) throw InputError("no particles to build shape functions from");
+  if (!(particles.dilation.minCoeff() > 0))
+    throw InputError(fmt::format("{}: every particle needs a positive dilation (support size); "
+                                 "got a minimum of {}: raise the support parameter (dmax, radius, "
+                                 "or j for RKPM windows 2^j)",
+                                 name_, particles.dilation.minCoeff()));
+  threads = std::max(1, threads);
+  lists.update(particles.x, points, search_radius(particles), threads);
+  const PointEvaluator eval(*this, particles, order, points.cols());
+  const int nq = static_cast<int>(points.cols());
+  t.dim = dim;
+  t.order = order;
+  t.offsets.resize(nq + 1);
+  t.offsets[0] = 0;
+  // Two passes so every thread writes its rows in place: the support sizes, their prefix sums
+  // (the row offsets), then the rows. The table is the serial one on any thread count.
+  FirstError error;
+  const bool parallel = run_parallel(threads, nq);
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    PointScratch sc;
+#pragma omp for schedule(static)
+    for (int q = 0; q < nq; ++q) {
+      const double* x = points.col(q).data();
+      t.offsets[q + 1] = static_cast<int>(eval.support_of(x, lists.candidates(q), sc));
+    }
+  }
+  for (int q = 0; q < nq; ++q) t.offsets[q + 1] += t.offsets[q];
+  const std::size_t entries = t.offsets[nq];
+  t.index.resize(entries);
+  t.value.resize(entries);
+  t.grad.resize(order >= 1 ? entries * dim : 0);
+  t.hess.resize(order >= 2 ? entries * dim * dim : 0);
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    PointScratch sc;
+#pragma omp for schedule(dynamic, 64)
+    for (int q = 0; q < nq; ++q) {
+      const double* x = points.col(q).data();
+      try {
+        eval.support_of(x, lists.candidates(q), sc);
+        eval.fill(x, sc, t, t.offsets[q]);
+      } catch (...) {
+        error.keep(q, std::current_exception());
+      }
+    }
+  }
+  error.rethrow();
 }
 
 ShapeTable LinearElementApproximation::evaluate(const ParticleSet& particles,

@@ -1,8 +1,11 @@
 #include "methods/approximations/particle_gradients.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/parallel.hpp"
 
 namespace mfv {
 
@@ -20,40 +23,50 @@ int diagonal_entry(const ShapeTable& t, int q) {
   return -1;
 }
 
-/// M⁻¹, or SingularError with what() when M is singular or nearly so (relative to its size);
-/// the message is built only then, since this runs once per point.
+/// M⁻¹ into `inverse` (lu and inverse are the caller's, reused), or SingularError with what()
+/// when M is singular or nearly so (relative to its size); the message is built only then,
+/// since this runs once per point.
 template <class Message>
-Eigen::MatrixXd inverse_or_throw(const Eigen::MatrixXd& M, const Message& what) {
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(M);
+void invert_or_throw(const Eigen::MatrixXd& M, Eigen::FullPivLU<Eigen::MatrixXd>& lu,
+                     Eigen::MatrixXd& inverse, const Message& what) {
+  lu.compute(M);
   if (!lu.isInvertible() ||
       !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), static_cast<double>(M.rows()))))
     throw SingularError(what());
-  return lu.inverse();
+  inverse = lu.inverse();
 }
 
-/// Copy of the row structure with values δ_IJ, gradients zeroed.
-ShapeTable delta_table(const ShapeTable& s) {
-  ShapeTable t;
+/// Copy of the row structure with values δ_IJ, gradients zeroed, into t (storage reused).
+void delta_table(const ShapeTable& s, ShapeTable& t) {
   t.dim = s.dim;
   t.order = 1;
   t.offsets = s.offsets;
   t.index = s.index;
   t.value.assign(s.entries(), 0.0);
   t.grad.assign(static_cast<std::size_t>(s.entries()) * s.dim, 0.0);
+  t.hess.clear();
   for (int q = 0; q < s.points(); ++q) {
     const int k = diagonal_entry(s, q);
     if (k < 0) throw std::logic_error("a particle lies outside its own support");
     t.value[k] = 1;
   }
-  return t;
 }
 
 }  // namespace
 
 ShapeTable sph_symmetric_gradient(const ShapeTable& sph) {
-  ShapeTable t = delta_table(sph);
+  ShapeTable t;
+  sph_symmetric_gradient(sph, t, 1);
+  return t;
+}
+
+void sph_symmetric_gradient(const ShapeTable& sph, ShapeTable& t, int threads) {
+  delta_table(sph, t);
   const int dim = sph.dim;
-  for (int q = 0; q < sph.points(); ++q) {
+  const int n = sph.points();
+  // Row q writes only its own entries (its diagonal included): rows are independent.
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) if (run_parallel(threads, n))
+  for (int q = 0; q < n; ++q) {
     const int kd = diagonal_entry(sph, q);
     for (int k = sph.offsets[q]; k < sph.offsets[q + 1]; ++k) {
       if (k == kd) continue;
@@ -63,97 +76,153 @@ ShapeTable sph_symmetric_gradient(const ShapeTable& sph) {
       }
     }
   }
-  return t;
 }
 
 RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet& p) {
+  RandlesLiberskyTables out;
+  randles_libersky(sph, p, out, 1);
+  return out;
+}
+
+void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLiberskyTables& out,
+                      int threads) {
   const int dim = sph.dim;
-  RandlesLiberskyTables out{delta_table(sph), delta_table(sph)};
+  const int n = sph.points();
+  threads = std::max(1, threads);
+  delta_table(sph, out.trial);
+  delta_table(sph, out.test);
   ShapeTable& G = out.trial;
   ShapeTable& H = out.test;
-  Eigen::MatrixXd Binv(dim, dim), Bt(dim, dim);
-  Eigen::VectorXd g(dim), c(dim);
-  // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table.
-  for (int I = 0; I < sph.points(); ++I) {
-    Binv.setZero();
-    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
-      const int J = sph.index[k];
-      for (int a = 0; a < dim; ++a)
-        for (int b = 0; b < dim; ++b) Binv(a, b) += (p.x(a, J) - p.x(a, I)) * sph.grad[k * dim + b];
-    }
-    Bt = inverse_or_throw(Binv, [I] {
-           return fmt::format("rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is "
-                              "singular; its neighbours are too few or collinear: raise the "
-                              "support (dmax)",
-                              I);
-         }).transpose();
-    const int kd = diagonal_entry(sph, I);
-    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
-      if (k == kd) continue;
-      for (int d = 0; d < dim; ++d) g[d] = sph.grad[k * dim + d];
-      c = Bt * g;
-      for (int d = 0; d < dim; ++d) {
-        G.grad[k * dim + d] = c[d];
-        G.grad[kd * dim + d] -= c[d];
+  FirstError error;
+  // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table; row I
+  // writes only its own entries.
+#pragma omp parallel num_threads(threads) if (run_parallel(threads, n))
+  {
+    Eigen::MatrixXd Binv(dim, dim), Bi(dim, dim), Bt(dim, dim);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(dim, dim);
+    Eigen::VectorXd g(dim), c(dim);
+#pragma omp for schedule(static)
+    for (int I = 0; I < n; ++I) {
+      try {
+        Binv.setZero();
+        for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+          const int J = sph.index[k];
+          for (int a = 0; a < dim; ++a)
+            for (int b = 0; b < dim; ++b)
+              Binv(a, b) += (p.x(a, J) - p.x(a, I)) * sph.grad[k * dim + b];
+        }
+        invert_or_throw(Binv, lu, Bi, [I] {
+          return fmt::format("rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is "
+                             "singular; its neighbours are too few or collinear: raise the "
+                             "support (dmax)",
+                             I);
+        });
+        Bt = Bi.transpose();
+        const int kd = diagonal_entry(sph, I);
+        for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+          if (k == kd) continue;
+          for (int d = 0; d < dim; ++d) g[d] = sph.grad[k * dim + d];
+          c.noalias() = Bt * g;
+          for (int d = 0; d < dim; ++d) {
+            G.grad[k * dim + d] = c[d];
+            G.grad[kd * dim + d] -= c[d];
+          }
+        }
+      } catch (...) {
+        error.keep(I, std::current_exception());
       }
     }
   }
+  error.rethrow();
   // Test rows: f_I = -V_I Σ_J (σ_J + σ_I)·c_IJ. The coefficient of σ_J (J ≠ I) is -V_I c_IJ,
   // stored at row q = J, entry I, divided by the weight V_J of that row; the coefficient of
-  // σ_I is -V_I Σ_J c_IJ, stored at row I, entry I, divided by V_I.
-  for (int I = 0; I < sph.points(); ++I) {
+  // σ_I is -V_I Σ_J c_IJ, stored at row I, entry I, divided by V_I. Each entry is written by
+  // one I: the diagonal by I itself, entry I of row J by I.
+  for (int I = 0; I < n; ++I) {
     const int kd = diagonal_entry(sph, I);
     for (int d = 0; d < dim; ++d) H.grad[kd * dim + d] = G.grad[kd * dim + d];
   }
-  for (int I = 0; I < sph.points(); ++I) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (run_parallel(threads, n))
+  for (int I = 0; I < n; ++I) {
     const int kd = diagonal_entry(sph, I);
-    for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
-      if (k == kd) continue;
-      const int J = sph.index[k];
-      // Entry I of row J (rows share symmetric neighbour lists: constant dilation).
-      int kji = -1;
-      for (int m = sph.offsets[J]; m < sph.offsets[J + 1]; ++m)
-        if (sph.index[m] == I) kji = m;
-      if (kji < 0)
-        throw InputError("rlm needs symmetric neighbour lists (one dilation for all particles)");
-      for (int d = 0; d < dim; ++d)
-        H.grad[kji * dim + d] = -p.volume[I] / p.volume[J] * G.grad[k * dim + d];
+    try {
+      for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
+        if (k == kd) continue;
+        const int J = sph.index[k];
+        // Entry I of row J (rows share symmetric neighbour lists: constant dilation). The
+        // kernel tables list rows in ascending particle index, so a binary search finds it; a
+        // table in another order is searched through.
+        const int* first = sph.index.data() + sph.offsets[J];
+        const int* last = sph.index.data() + sph.offsets[J + 1];
+        const int* it = std::lower_bound(first, last, I);
+        if (it == last || *it != I) it = std::find(first, last, I);
+        const int kji = it != last ? static_cast<int>(it - sph.index.data()) : -1;
+        if (kji < 0)
+          throw InputError("rlm needs symmetric neighbour lists (one dilation for all particles)");
+        for (int d = 0; d < dim; ++d)
+          H.grad[kji * dim + d] = -p.volume[I] / p.volume[J] * G.grad[k * dim + d];
+      }
+    } catch (...) {
+      error.keep(n + I, std::current_exception());
     }
   }
-  return out;
+  error.rethrow();
 }
 
 ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
                               const ParticleSet& p, const Eigen::MatrixXd& points) {
+  ShapeTable t;
+  corrected_gradient(shepard, values, p, points, t, 1);
+  return t;
+}
+
+void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
+                        const ParticleSet& p, const Eigen::MatrixXd& points, ShapeTable& t,
+                        int threads) {
   require_same_rows(shepard, values);
   const int dim = shepard.dim;
-  ShapeTable t = values;
+  const int n = shepard.points();
+  t.dim = values.dim;
   t.order = 1;
+  t.offsets = values.offsets;
+  t.index = values.index;
+  t.value = values.value;
   t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
   t.hess.clear();
-  Eigen::MatrixXd M(dim, dim);
-  Eigen::VectorXd g(dim);
-  for (int q = 0; q < shepard.points(); ++q) {
-    // M_jb = Σ_I ∂_j W^S_I (X_I - x)_b: the shift by x changes nothing (Σ ∇W^S = 0) but keeps
-    // the sums well scaled.
-    M.setZero();
-    for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k)
-      for (int j = 0; j < dim; ++j)
-        for (int b = 0; b < dim; ++b)
-          M(j, b) += shepard.grad[k * dim + j] * (p.x(b, shepard.index[k]) - points(b, q));
-    // G_I = a ∇W^S_I with a = M⁻¹ (eq 31: A aᵀ = I with A = Mᵀ).
-    const Eigen::MatrixXd a = inverse_or_throw(M, [q] {
-      return fmt::format("kbm: the correction matrix A (001 eq 31) is singular at point {}; its "
-                         "support holds too few or collinear particles: raise the support (dmax)",
-                         q);
-    });
-    for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
-      for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
-      const Eigen::VectorXd G = a * g;
-      for (int d = 0; d < dim; ++d) t.grad[k * dim + d] = G[d];
+  FirstError error;
+#pragma omp parallel num_threads(std::max(1, threads)) if (run_parallel(threads, n))
+  {
+    Eigen::MatrixXd M(dim, dim), a(dim, dim);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(dim, dim);
+    Eigen::VectorXd g(dim), G(dim);
+#pragma omp for schedule(static)
+    for (int q = 0; q < n; ++q) {
+      try {
+        // M_jb = Σ_I ∂_j W^S_I (X_I - x)_b: the shift by x changes nothing (Σ ∇W^S = 0) but
+        // keeps the sums well scaled.
+        M.setZero();
+        for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k)
+          for (int j = 0; j < dim; ++j)
+            for (int b = 0; b < dim; ++b)
+              M(j, b) += shepard.grad[k * dim + j] * (p.x(b, shepard.index[k]) - points(b, q));
+        // G_I = a ∇W^S_I with a = M⁻¹ (eq 31: A aᵀ = I with A = Mᵀ).
+        invert_or_throw(M, lu, a, [q] {
+          return fmt::format("kbm: the correction matrix A (001 eq 31) is singular at point {}; "
+                             "its support holds too few or collinear particles: raise the "
+                             "support (dmax)",
+                             q);
+        });
+        for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
+          for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
+          G.noalias() = a * g;
+          for (int d = 0; d < dim; ++d) t.grad[k * dim + d] = G[d];
+        }
+      } catch (...) {
+        error.keep(q, std::current_exception());
+      }
     }
   }
-  return t;
+  error.rethrow();
 }
 
 }  // namespace mfv

@@ -13,6 +13,9 @@ namespace mfv {
 /// (values W(X_I - X_J) V_J and their gradients) at the particles; the result has values δ_IJ
 /// (the unknowns are the particle displacements) and the symmetrized gradients.
 ShapeTable sph_symmetric_gradient(const ShapeTable& sph_at_particles);
+/// The same into `out` in place (storage reused), rows spread over `threads` OpenMP threads;
+/// equal bit for bit on any thread count. Likewise the in-place forms below.
+void sph_symmetric_gradient(const ShapeTable& sph_at_particles, ShapeTable& out, int threads);
 
 /// Randles–Libersky normalized gradient (001 eqs 33–34): c_IJ = V_J Bᵀ_I ∇W(X_I - X_J),
 /// B_I⁻¹ = Σ_J V_J (X_J - X_I) ⊗ ∇W(X_I - X_J), so linear fields are differentiated exactly.
@@ -24,6 +27,8 @@ struct RandlesLiberskyTables {
 };
 RandlesLiberskyTables randles_libersky(const ShapeTable& sph_at_particles,
                                        const ParticleSet& particles);
+void randles_libersky(const ShapeTable& sph_at_particles, const ParticleSet& particles,
+                      RandlesLiberskyTables& out, int threads);
 
 /// Krongauz–Belytschko corrected gradient (001 eqs 26–32): G_I(x) = a(x) · ∇W^S_I(x) with
 /// a = M⁻¹, M = Σ_I ∇W^S_I(x) ⊗ X_I, so Σ_I G_I ⊗ X_I = I (eq 29). `shepard` is the Shepard
@@ -32,5 +37,8 @@ RandlesLiberskyTables randles_libersky(const ShapeTable& sph_at_particles,
 /// neighbour lists. Throws SingularError where M is singular.
 ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
                               const ParticleSet& particles, const Eigen::MatrixXd& points);
+void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
+                        const ParticleSet& particles, const Eigen::MatrixXd& points,
+                        ShapeTable& out, int threads);
 
 }  // namespace mfv

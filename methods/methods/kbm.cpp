@@ -30,11 +30,22 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
           const Params a = forward(p, {{"kernel", "kernel"}});
           std::shared_ptr<const Approximation> shepard = parts.approximations.create("shepard", a);
           std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
-          g.build = [shepard, mls](Discretization& d, int) {
+          g.build = [shepard, mls](Discretization& d, int, Retabulation* cache) {
             const Eigen::MatrixXd& pts = d.quadrature.points;
-            ShapeTable test = shepard->evaluate(d.particles, pts, 1);
-            d.trial_q = corrected_gradient(test, mls->evaluate(d.particles, pts, 0), d.particles, pts);
-            d.test_q = std::move(test);
+            if (cache) {
+              // Shepard and MLS share kernel and dilations, so one list serves both.
+              shepard->evaluate_into(d.particles, pts, 1, cache->at_points, cache->threads,
+                                     d.test_q);
+              mls->evaluate_into(d.particles, pts, 0, cache->at_points, cache->threads,
+                                 cache->kernel_table);
+              corrected_gradient(d.test_q, cache->kernel_table, d.particles, pts, d.trial_q,
+                                 cache->threads);
+            } else {
+              ShapeTable test = shepard->evaluate(d.particles, pts, 1);
+              d.trial_q =
+                  corrected_gradient(test, mls->evaluate(d.particles, pts, 0), d.particles, pts);
+              d.test_q = std::move(test);
+            }
             d.trial = mls;
             d.test = shepard;
             d.form = Form::petrov_galerkin;

@@ -113,6 +113,16 @@ class GalerkinMethod final : public Method {
     d.test_q = r_.test ? r_.test->evaluate(d.particles, d.quadrature.points, order) : d.trial_q;
   }
 
+  void retabulate(Discretization& d, int order, Retabulation& c) const override {
+    r_.trial->evaluate_into(d.particles, d.quadrature.points, order, c.at_points, c.threads,
+                            d.trial_q);
+    if (r_.test)
+      r_.test->evaluate_into(d.particles, d.quadrature.points, order, c.at_points, c.threads,
+                             d.test_q);
+    else
+      d.test_q = d.trial_q;
+  }
+
  private:
   GalerkinRecipe r_;
 };
@@ -125,11 +135,14 @@ class ParticleMethod final : public Method {
     Discretization d = prepare(domain, particles, r_.integration, r_.dilation,
                                r_.dilation_over_spacing, r_.essential, r_.penalty, r_.description);
     d.particles = std::move(particles);
-    r_.build(d, order);
+    r_.build(d, order, nullptr);
     return d;
   }
 
-  void retabulate(Discretization& d, int order) const override { r_.build(d, order); }
+  void retabulate(Discretization& d, int order) const override { r_.build(d, order, nullptr); }
+  void retabulate(Discretization& d, int order, Retabulation& c) const override {
+    r_.build(d, order, &c);
+  }
 
  private:
   ParticleRecipe r_;

@@ -15,6 +15,7 @@
 #include "methods/core/registry.hpp"
 #include "methods/integration/integration.hpp"
 #include "methods/kernels/register.hpp"
+#include "methods/neighbours.hpp"
 #include "methods/particles.hpp"
 
 namespace mfv {
@@ -79,6 +80,21 @@ struct Discretization {
 /// method, the count and the fixes (crack=none, or the enriched-bar analysis).
 void refuse_enrichment(const Discretization& d, const std::string& user);
 
+/// What the recomputations of an Eulerian kernel keep from one call to the next (explicit
+/// dynamics owns one per engine and hands it to Method::retabulate): Verlet lists for the two
+/// point sets tables are evaluated at, the kernel tables the particle methods build their
+/// gradients from (storage reused, no allocation once warm), and the OpenMP threads to spread
+/// the points over. The tables come out as a fresh retabulation's, bit for bit.
+struct Retabulation {
+  explicit Retabulation(double skin = 0, int threads = 1)
+      : at_particles(skin), at_points(skin), threads(threads) {}
+  NeighbourLists at_particles;  ///< points: the particles themselves (sph, rlm)
+  NeighbourLists at_points;     ///< points: the integration rule's (Galerkin, kbm)
+  ShapeTable kernel_table;      ///< sph's kernel sums, kbm's MLS values
+  int threads = 1;
+  long rebuilds() const { return at_particles.rebuilds() + at_points.rebuilds(); }
+};
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -90,6 +106,11 @@ class Method {
   /// positions and volumes and its current quadrature points and weights (the caller moves
   /// them), keeping the dilations, the rule's points and the method's composition.
   virtual void retabulate(Discretization& d, int order) const = 0;
+  /// The same with what the previous recomputations kept (neighbour lists, table storage,
+  /// threads); the tables equal retabulate(d, order)'s. The default ignores the cache.
+  virtual void retabulate(Discretization& d, int order, Retabulation& cache) const {
+    retabulate(d, order);
+  }
 };
 
 using MethodRegistry = Registry<Method>;
@@ -114,8 +135,9 @@ EssentialBC essential_from(const Params& p);
 
 /// Builds the tables of a method whose operators are not plain shape functions at a rule
 /// (SPH, RLM, KBM): given the particles (dilations set) and the rule, fills trial_q, test_q,
-/// trial, test, form and particle_values of the discretization.
-using TableBuilder = std::function<void(Discretization&, int order)>;
+/// trial, test, form and particle_values of the discretization; with a cache (Eulerian
+/// recomputations) through the approximations' evaluate_into, otherwise evaluate.
+using TableBuilder = std::function<void(Discretization&, int order, Retabulation* cache)>;
 
 /// A particle method of 001 Table 1: dilation rule, integration scheme and table builder.
 struct ParticleRecipe {

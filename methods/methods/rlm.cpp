@@ -12,8 +12,11 @@ void register_rlm(MethodRegistry& r, const MethodParts& parts) {
         particle_method_schema(parts.kernels, false), [parts](const Params& p) {
           return make_collocation_method(
               parts, p, "Randles-Libersky collocation",
-              [](const ShapeTable& sph, const ParticleSet& particles, Discretization& d) {
-                auto tables = randles_libersky(sph, particles);
+              [](const ShapeTable& sph, const ParticleSet& particles, Discretization& d,
+                 int threads) {
+                // Into the discretization's own tables: their storage is reused.
+                RandlesLiberskyTables tables{std::move(d.trial_q), std::move(d.test_q)};
+                randles_libersky(sph, particles, tables, threads);
                 d.trial_q = std::move(tables.trial);
                 d.test_q = std::move(tables.test);
               });

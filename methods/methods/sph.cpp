@@ -14,8 +14,14 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
   const Params a = forward(p, {{"kernel", "kernel"}});
   std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
   std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
-  g.build = [sph, mls, tables](Discretization& d, int) {
-    tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d);
+  g.build = [sph, mls, tables](Discretization& d, int, Retabulation* cache) {
+    if (cache) {
+      sph->evaluate_into(d.particles, d.particles.x, 1, cache->at_particles, cache->threads,
+                         cache->kernel_table);
+      tables(cache->kernel_table, d.particles, d, cache->threads);
+    } else {
+      tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d, 1);
+    }
     d.trial = mls;  // reconstruction of the particle values between particles
     d.test = sph;
     d.form = Form::collocation;
@@ -35,8 +41,8 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
         particle_method_schema(parts.kernels, false), [parts](const Params& p) {
           return make_collocation_method(
               parts, p, "symmetrized SPH collocation",
-              [](const ShapeTable& sph, const ParticleSet&, Discretization& d) {
-                d.trial_q = sph_symmetric_gradient(sph);
+              [](const ShapeTable& sph, const ParticleSet&, Discretization& d, int threads) {
+                sph_symmetric_gradient(sph, d.trial_q, threads);
                 d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
                 d.gradient_consistency = 0;  // no correction: only constants (001 eq 25)
               });
