@@ -17,6 +17,18 @@
 ///       measured earlier in the same process (the ratio of 001 §9.3 Tables 5-6), and
 ///       eul_over_lag_wall the same in wall time; retab_ms, the extra CPU per recomputation,
 ///       (eulerian - lagrangian) × n. Fixed step counts (600, 60, 300), each case from t = 0.
+///   BM_DynamicsFrameMaterial/<m>/mat:<svk|j2vp>/omp:1/eulerian:<0|1>/every:<n>
+///       the same cases on 1 thread with a material dimension (issue 15: is 001's smaller
+///       Eulerian/Lagrangian ratio that of a dearer material?): svk as above, and
+///       j2-viscoplastic (Needleman's rate-dependent J2, implicit Newton return in Δε̄) with
+///       σ0 = 1e-6 E, so that the points flow from the first steps. Both materials get the
+///       Gaussian pulse plus a uniform compression v_x = −ε̇ (x − 30), ε̇ = 0.1/ms (strain
+///       ≈ 3e-6 per step), so that every point is loaded. Extra counter plastic_frac: the
+///       fraction of integration points whose plastic_strain grew during the measured steps.
+///   BM_MaterialPoint/<svk|j2vp>
+///       first_piola of one batch of 5,061 points per iteration under the same uniform
+///       compression (ε = 3e-6 more per call, dt = 3e-5 ms): counter ns_per_point, and
+///       plastic_frac as above.
 /// Counters: items_per_second (particle-steps per second), particles, qpoints (integration
 /// points), setup_s (wall seconds of discretize for this case), rss_GB (resident set after the
 /// run). Speed is measured here only: tests assert no timings.
@@ -116,12 +128,27 @@ double resident_gb() {
   return 0;
 }
 
-DynamicsModel rod_model(const ParticleSet& particles) {
+/// The rod's material: "svk" (St Venant–Kirchhoff), or "j2vp" (j2-viscoplastic, Needleman
+/// 1989) with the rod's E and ν, σ0 = 1e-6 E so that the benchmark's small strains are far
+/// into plastic flow, and the floor and softening slope scaled to the GPa units (their
+/// defaults are in Pa); the other constants are the material's defaults.
+std::unique_ptr<Material> rod_material(const std::string& name) {
   Params mp;
   mp.set("E", kYoung);
   mp.set("nu", kPoisson);
+  if (name == "svk") return catalogue().materials.create("svk", mp);
+  if (name != "j2vp")
+    throw std::logic_error("bench_dynamics: no rod material '" + name + "' (svk or j2vp)");
+  const double sigma0 = 1e-6 * kYoung;
+  mp.set("sigma0", sigma0);
+  mp.set("residual", sigma0 / 100);
+  mp.set("h1", -kYoung / 100);
+  return catalogue().materials.create("j2-viscoplastic", mp);
+}
+
+DynamicsModel rod_model(const ParticleSet& particles, const std::string& material = "svk") {
   DynamicsModel model;
-  model.material = catalogue().materials.create("svk", mp);
+  model.material = rod_material(material);
   model.density = kDensity;
   model.mass = lumped_masses(particles, model.density, MassLumping::volume);
   return model;
@@ -132,6 +159,26 @@ void set_rod_velocity(ExplicitDynamics& sim, const ParticleSet& particles) {
   for (int I = 0; I < particles.size(); ++I)
     v(0, I) = std::exp(-0.025 * std::pow(particles.x(0, I) - 0.5 * kLength, 2));
   sim.set_particle_velocity(v);
+}
+
+/// Compression rate of BM_DynamicsFrameMaterial and BM_MaterialPoint, 1/ms.
+constexpr double kCompressionRate = 0.1;
+
+/// The Gaussian pulse plus the uniform compression v_x = −ε̇ (x − L/2).
+void set_compressed_rod_velocity(ExplicitDynamics& sim, const ParticleSet& particles) {
+  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(2, particles.size());
+  for (int I = 0; I < particles.size(); ++I) {
+    const double x = particles.x(0, I) - 0.5 * kLength;
+    v(0, I) = std::exp(-0.025 * x * x) - kCompressionRate * x;
+  }
+  sim.set_particle_velocity(v);
+}
+
+/// The fraction of entries that grew from `before` to `after` (0 when there are none).
+double grown_fraction(const Eigen::VectorXd& before, const Eigen::VectorXd& after) {
+  if (after.size() == 0 || before.size() != after.size()) return 0;
+  return static_cast<double>((after.array() > before.array()).count()) /
+         static_cast<double>(after.size());
 }
 
 /// dt_crit / (Δx / c) of a method on the rod, from the power iteration on a 241 × 21 lattice
@@ -277,8 +324,10 @@ std::map<std::string, Timing>& lagrangian_per_step() {
   return m;
 }
 
+/// One frame case; `material` null is BM_DynamicsFrame (svk, the Gaussian pulse), otherwise
+/// BM_DynamicsFrameMaterial (that rod material, the pulse plus the compression).
 void frame_case(benchmark::State& state, const std::string& method, int threads, bool eulerian,
-                int every) {
+                int every, const char* material = nullptr) {
   // A fixed iteration count: the library calls this once per case, and each case starts from
   // t = 0 with its own engine.
   const ParticleSet p =
@@ -292,13 +341,18 @@ void frame_case(benchmark::State& state, const std::string& method, int threads,
     opt.frame = eulerian ? KernelFrame::eulerian : KernelFrame::lagrangian;
     opt.update_every = every;
     opt.threads = threads;
-    sim = std::make_unique<ExplicitDynamics>(*m, m->discretize(rod(), p, 1), rod_model(p), opt);
-    set_rod_velocity(*sim, p);
+    sim = std::make_unique<ExplicitDynamics>(*m, m->discretize(rod(), p, 1),
+                                             rod_model(p, material ? material : "svk"), opt);
+    if (material)
+      set_compressed_rod_velocity(*sim, p);
+    else
+      set_rod_velocity(*sim, p);
     dt = 0.8 * critical_ratio(method) * p.spacing / std::sqrt(kYoung / kDensity);
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return;
   }
+  const Eigen::VectorXd plastic_before = sim->point_state("plastic_strain");
   double cpu = 0, wall = 0;
   for (auto _ : state) {
     const double c0 = process_cpu_seconds();
@@ -315,12 +369,16 @@ void frame_case(benchmark::State& state, const std::string& method, int threads,
   }
   const double steps = static_cast<double>(state.iterations()) * kFrameSteps;
   const Timing per_step{cpu / steps, wall / steps};
-  const std::string lag_key = fmt::format("{}/{}", method, threads);
+  const std::string lag_key =
+      fmt::format("{}/{}{}", method, threads, material ? std::string("/") + material : "");
   state.SetItemsProcessed(static_cast<std::int64_t>(steps) * p.size());
   state.counters["particles"] = p.size();
   state.counters["qpoints"] = sim->discretization().quadrature.size();
   state.counters["step_ms"] = 1e3 * per_step.wall;
   state.counters["cpu_ms"] = 1e3 * per_step.cpu;
+  if (material)
+    state.counters["plastic_frac"] =
+        grown_fraction(plastic_before, sim->point_state("plastic_strain"));
   if (!eulerian) {
     lagrangian_per_step()[lag_key] = per_step;
     return;
@@ -356,6 +414,90 @@ bool register_frame_benchmarks() {
 }
 
 [[maybe_unused]] const bool kFrameRegistered = register_frame_benchmarks();
+
+const char* const kRodMaterials[] = {"svk", "j2vp"};
+
+bool register_frame_material_benchmarks() {
+  // As register_frame_benchmarks, on 1 thread, each material's Lagrangian case first.
+  for (const char* method : kMethods)
+    for (const char* material : kRodMaterials)
+      for (const auto& [eulerian, every, iterations] :
+           {std::tuple{0, 1, 20}, std::tuple{1, 1, 2}, std::tuple{1, 30, 10}})
+        benchmark::RegisterBenchmark(
+            fmt::format("BM_DynamicsFrameMaterial/{}/mat:{}/omp:1/eulerian:{}/every:{}", method,
+                        material, eulerian, every)
+                .c_str(),
+            [method, material, eulerian, every](benchmark::State& s) {
+              frame_case(s, method, 1, eulerian != 0, every, material);
+            })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->Iterations(iterations);
+  return true;
+}
+
+[[maybe_unused]] const bool kFrameMaterialRegistered = register_frame_material_benchmarks();
+
+/// The cost of the material alone: first_piola of 5,061 points (the frame rod's particle
+/// count) per iteration, every point compressed uniformly by a further 3e-6 per call, as a
+/// point of BM_DynamicsFrameMaterial is per step. The engine calls the material in batches of
+/// the same kind, so this is its per-point cost inside a step.
+void BM_MaterialPoint(benchmark::State& state, const char* name) {
+  constexpr int kDim = 2, kPoints = 5061;
+  constexpr double kStrainPerCall = 3e-6, kDt = 3e-5;  // ms, about the rod's dt
+  const std::unique_ptr<Material> material = rod_material(name);
+  const int ns = material->state_size(kDim);
+  std::vector<double> F(4 * kPoints), P(4 * kPoints), state_values(ns * kPoints, 0.0);
+  material->initial_state(kDim, kPoints, state_values.data());
+  // The engine's F is the identity before the first step; the material's history starts there.
+  const std::vector<std::string> names = material->state_names(kDim);
+  const auto slot = std::find(names.begin(), names.end(), "plastic_strain");
+  const auto plastic = [&] {
+    Eigen::VectorXd e(slot == names.end() ? 0 : kPoints);
+    for (int q = 0; q < e.size(); ++q) e[q] = state_values[ns * q + (slot - names.begin())];
+    return e;
+  };
+  const auto set_F = [&](double strain) {
+    for (int q = 0; q < kPoints; ++q) {
+      // Column-major 2 × 2; a slight per-point shear so that the points are not all equal.
+      F[4 * q + 0] = 1 - strain;
+      F[4 * q + 1] = 0;
+      F[4 * q + 2] = 1e-7 * (q % 7);
+      F[4 * q + 3] = 1;
+    }
+  };
+  // A few calls first, so that the measured ones are in flow, not at the elastic start.
+  long calls = 0;
+  for (; calls < 5; ++calls) {
+    set_F(kStrainPerCall * static_cast<double>(calls + 1));
+    material->first_piola(kDim, kPoints, F.data(), P.data(), state_values.data(), kDt);
+  }
+  const Eigen::VectorXd before = plastic();
+  for (auto _ : state) {
+    state.PauseTiming();
+    set_F(kStrainPerCall * static_cast<double>(++calls));
+    state.ResumeTiming();
+    material->first_piola(kDim, kPoints, F.data(), P.data(), state_values.data(), kDt);
+    benchmark::DoNotOptimize(P.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kPoints);
+  state.counters["ns_per_point"] = benchmark::Counter(
+      1e-9 * static_cast<double>(kPoints) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["plastic_frac"] = grown_fraction(before, plastic());
+}
+
+bool register_material_benchmarks() {
+  for (const char* name : kRodMaterials)
+    benchmark::RegisterBenchmark((std::string("BM_MaterialPoint/") + name).c_str(),
+                                 BM_MaterialPoint, name)
+        ->Unit(benchmark::kMicrosecond)
+        ->MinTime(0.5);
+  return true;
+}
+
+[[maybe_unused]] const bool kMaterialRegistered = register_material_benchmarks();
 
 // Registered during static initialization, like bench_cantilever.cpp.
 [[maybe_unused]] const bool kRegistered = register_dynamics_benchmarks();
