@@ -298,8 +298,13 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
   };
   for (int I : top) model.prescribed.push_back({I, 1, -V / 2});
   for (int I : bottom) model.prescribed.push_back({I, 1, V / 2});
-  model.prescribed.push_back({middle(top), 0, 0.0});
-  model.prescribed.push_back({middle(bottom), 0, 0.0});
+  if (p_.text("platens") == "sticking") {
+    for (int I : top) model.prescribed.push_back({I, 0, 0.0});
+    for (int I : bottom) model.prescribed.push_back({I, 0, 0.0});
+  } else {
+    model.prescribed.push_back({middle(top), 0, 0.0});
+    model.prescribed.push_back({middle(bottom), 0, 0.0});
+  }
   // No shock at t = 0: the plate starts with the velocity field of uniform compression,
   // v_y = −ε̇ y, and the lateral expansion of the elastic plane-strain plate with free sides,
   // v_x = ν/(1 − ν) ε̇ x (ν = 0.3), which the platens' constant velocity then sustains.
@@ -312,8 +317,8 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
   def.end_time = end_time();
   def.checkpoints = {def.end_time};
   def.label = fmt::format("compressed-plate {}", material_);
-  def.notes = fmt::format("shear-free platens closing at {:g} m/s, imperfection {}", V,
-                          imperfection_);
+  def.notes = fmt::format("{} platens closing at {:g} m/s, imperfection {}",
+                          p_.text("platens"), V, imperfection_);
 
   const Eigen::MatrixXd Xq = d.quadrature.points;
   const int nq = static_cast<int>(Xq.cols());
@@ -629,7 +634,8 @@ std::vector<std::string> Plate::published_notes() const {
           "(default 10 m/s, ε̇ = V/L = 1000/s) to end_strain (default: 0.02 for j2-softening, 0.2 for "
           "viscoplastic), shear-free (x free; "
           "x held only at the middle particle of each platen against drift) as the ends of "
-          "Needleman's block, lateral faces free; the plate starts with the velocity field of "
+          "Needleman's block (platens=sticking holds x on the whole loaded rows instead), "
+          "lateral faces free; the plate starts with the velocity field of "
           "uniform compression (v_y = −ε̇ y, v_x = ν/(1−ν) ε̇ x) so there is no shock at t = 0. "
           "The band is triggered by a weak spot at the centre (imperfection=spot: σ_Y0 lowered by "
           "imperfection_depth = 5 % within imperfection_radius = 0.05 L), the full-plate form of "
@@ -659,6 +665,9 @@ void register_plate(ProblemRegistry& r) {
         {ParamSpec::choice("material", "viscoplastic", {"viscoplastic", "j2-softening"},
                            "viscoplastic: Needleman 1989 (j2-viscoplastic); j2-softening: "
                            "j2-jaumann with linear softening"),
+         ParamSpec::choice("platens", "shear-free", {"shear-free", "sticking"},
+                           "shear-free: x free on the loaded rows (Needleman 1989's block ends); "
+                           "sticking: x held on the loaded rows (no slip on the platens)"),
          ParamSpec::positive("velocity", 10.0, "closing speed V of the platens (m/s; each moves "
                                                "V/2), at most 1000"),
          ParamSpec::number("end_strain", 0.0, "nominal strain V t / L at the end (≤ 0.5; 0: 0.02 "
