@@ -483,46 +483,44 @@ bool within_factor(double ours, double paper, double f) {
 /// Table 5's criterion on the studies of one material: each method's hours over SPH's
 /// within a factor of the paper's ratio.
 std::function<Verdict(const std::vector<StudySummary>&)> t5_check(const std::string& material) {
-  return
-       [material](const std::vector<StudySummary>& all) {
-         const Measured sph = measured(all, "sph", "lagrangian", material);
-         if (std::isnan(sph.hours)) return Verdict{"not run", "needs a Lagrangian sph study"};
-         Count c;
-         for (const auto& row : kPaper) {
-           if (std::string(row.method) == "sph") continue;
-           const Measured m = measured(all, row.method, "lagrangian", material);
-           if (std::isnan(m.hours)) continue;
-           const double paper = row.lagrangian_hours / paper_row("sph").lagrangian_hours;
-           const double ours = m.hours / sph.hours;
-           c.add(within_factor(ours, paper, kRatioFactor),
-                 fmt::format("{} {:.2f} (paper {:.2f}; ours {:.3g} h, theirs {} h on 20 "
-                             "processors)",
-                             row.method, ours, paper, m.hours, row.lagrangian_hours));
-         }
-         Verdict v = c.verdict("needs a Lagrangian study of a method besides sph");
-         v.ours = fmt::format("sph {:.3g} h (theirs 34.8); ", sph.hours) + v.ours;
-         return v;
-       };
+  return [material](const std::vector<StudySummary>& all) {
+    const Measured sph = measured(all, "sph", "lagrangian", material);
+    if (std::isnan(sph.hours)) return Verdict{"not run", "needs a Lagrangian sph study"};
+    Count c;
+    for (const auto& row : kPaper) {
+      if (std::string(row.method) == "sph") continue;
+      const Measured m = measured(all, row.method, "lagrangian", material);
+      if (std::isnan(m.hours)) continue;
+      const double paper = row.lagrangian_hours / paper_row("sph").lagrangian_hours;
+      const double ours = m.hours / sph.hours;
+      c.add(within_factor(ours, paper, kRatioFactor),
+            fmt::format("{} {:.2f} (paper {:.2f}; ours {:.3g} h, theirs {} h on 20 "
+                        "processors)",
+                        row.method, ours, paper, m.hours, row.lagrangian_hours));
+    }
+    Verdict v = c.verdict("needs a Lagrangian study of a method besides sph");
+    v.ours = fmt::format("sph {:.3g} h (theirs 34.8); ", sph.hours) + v.ours;
+    return v;
+  };
 }
 
 /// Table 6's criterion on the studies of one material: Eulerian over Lagrangian hours per
 /// method within a factor of the paper's ratio.
 std::function<Verdict(const std::vector<StudySummary>&)> t6_check(const std::string& material) {
-  return
-       [material](const std::vector<StudySummary>& all) {
-         Count c;
-         for (const auto& row : kPaper) {
-           if (std::isnan(row.eulerian_hours)) continue;
-           const Measured l = measured(all, row.method, "lagrangian", material);
-           const Measured e = measured(all, row.method, "eulerian", material);
-           if (std::isnan(l.hours) || std::isnan(e.hours)) continue;
-           const double paper = row.eulerian_hours / row.lagrangian_hours;
-           const double ours = e.hours / l.hours;
-           c.add(within_factor(ours, paper, kRatioFactor),
-                 fmt::format("{} {:.2f} (paper {:.2f})", row.method, ours, paper));
-         }
-         return c.verdict("needs a method run with both kernels");
-       };
+  return [material](const std::vector<StudySummary>& all) {
+    Count c;
+    for (const auto& row : kPaper) {
+      if (std::isnan(row.eulerian_hours)) continue;
+      const Measured l = measured(all, row.method, "lagrangian", material);
+      const Measured e = measured(all, row.method, "eulerian", material);
+      if (std::isnan(l.hours) || std::isnan(e.hours)) continue;
+      const double paper = row.eulerian_hours / row.lagrangian_hours;
+      const double ours = e.hours / l.hours;
+      c.add(within_factor(ours, paper, kRatioFactor),
+            fmt::format("{} {:.2f} (paper {:.2f})", row.method, ours, paper));
+    }
+    return c.verdict("needs a method run with both kernels");
+  };
 }
 
 std::vector<Finding> NotchedBeam::findings() const {
