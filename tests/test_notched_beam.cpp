@@ -1,6 +1,7 @@
 // The notched beam of 001 §9.3 (Tables 5–6): the lattice at the paper's counts, the notch,
-// the refusal of bad parameters, a tiny run of every method, and the four findings judged on
-// synthetic studies.
+// the refusal of bad parameters, a tiny run of every method, the four findings judged on
+// synthetic studies, and the j2-viscoplastic reading (its points flow; its two findings judge
+// only its own studies).
 #include <cmath>
 #include <map>
 
@@ -88,7 +89,8 @@ CaseSpec tiny(const std::string& method, const std::string& layout, const std::s
 TEST(NotchedBeam, ParametersOutOfRangeAreInputErrors) {
   for (const char* bad : {"scale=-1", "scale=nan", "scale=2.5", "scale=1e300", "steps=-1",
                           "steps=2.5", "steps=1e9", "steps=nan", "velocity=0", "velocity=-1",
-                          "velocity=nan", "velocity=1e9", "layout=grid"}) {
+                          "velocity=nan", "velocity=1e9", "layout=grid", "material=concrete",
+                          "material=", "material=SVK"}) {
     CaseSpec s = tiny("sph", "nodal", "lagrangian");
     s.problem_params = Params::parse(std::string(bad));
     EXPECT_THROW(run_case(test_catalogue(), s), InputError) << bad;
@@ -133,12 +135,64 @@ TEST(NotchedBeam, TinyRunsOfEveryMethodFinishTheirSteps) {
     }
 }
 
-/// A study of `method` with kernel `frame` whose hours at paper size are `hours`.
-StudySummary study(const std::string& method, const std::string& frame, double hours) {
+TEST(NotchedBeam, AnUnknownMaterialIsRefusedNamingTheValidOnes) {
+  CaseSpec s = tiny("sph", "nodal", "lagrangian");
+  s.problem_params = Params::parse("material=concrete");
+  try {
+    run_case(test_catalogue(), s);
+    ADD_FAILURE() << "material=concrete accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("svk"), std::string::npos) << what;
+    EXPECT_NE(what.find("j2-viscoplastic"), std::string::npos) << what;
+  }
+}
+
+TEST(NotchedBeam, TheInelasticReadingFlowsAtMostPoints) {
+  // Every method's layout, Lagrangian, and one Eulerian run: the return map must run at
+  // (nearly) every integration point, or the reading would time an elastic run.
+  const std::map<std::string, std::string> layouts = {{"sph", "nodal"},
+                                                      {"kbm-si", "stress-points"},
+                                                      {"efg-ci", "gauss-cells"}};
+  std::vector<std::pair<std::string, std::string>> runs;
+  for (const auto& [method, layout] : layouts) runs.emplace_back(method, "lagrangian");
+  runs.emplace_back("efg-ni", "eulerian");
+  for (const auto& [method, frame] : runs) {
+    const std::string layout = layouts.count(method) ? layouts.at(method) : "nodal";
+    CaseSpec s = tiny(method, layout, frame);
+    s.problem_params.set("material", "j2-viscoplastic");
+    const CaseResult r = run_case(test_catalogue(), s);
+    const TransientData& t = r.data<TransientData>();
+    EXPECT_EQ(t.steps, 20) << method << " " << frame;
+    EXPECT_FALSE(t.instability.has_value()) << method << " " << frame << ": " << t.verdict();
+    ASSERT_TRUE(r.headline.count("flowed points (fraction)")) << method;
+    EXPECT_GE(r.headline.at("flowed points (fraction)"), 0.9) << method << " " << frame;
+  }
+  // svk runs report no such fraction (their headlines are unchanged).
+  const CaseResult svk = run_case(test_catalogue(), tiny("sph", "nodal", "lagrangian"));
+  EXPECT_EQ(svk.headline.count("flowed points (fraction)"), 0u);
+}
+
+TEST(NotchedBeam, TheInelasticReadingCostsMorePerStepThanSvk) {
+  // ~1 µs per point against ~2.5 ns: the step must be several times dearer (factor 3, far
+  // below the ~25 measured, so load on the machine does not fail it).
+  CaseSpec svk = tiny("sph", "nodal", "lagrangian");
+  CaseSpec j2 = svk;
+  j2.problem_params.set("material", "j2-viscoplastic");
+  const double a = run_case(test_catalogue(), svk).headline.at("CPU per step (s)");
+  const double b = run_case(test_catalogue(), j2).headline.at("CPU per step (s)");
+  EXPECT_GT(b, 3 * a) << "svk " << a << " s, j2-viscoplastic " << b << " s per step";
+}
+
+/// A study of `method` with kernel `frame` whose hours at paper size are `hours`; `material`
+/// empty: the parameter unset (studies from before it existed, read as svk).
+StudySummary study(const std::string& method, const std::string& frame, double hours,
+                   const std::string& material = "") {
   StudySummary s;
   s.method = method;
   s.label = method + " " + frame;
   s.problem_resolved.set("frame", frame.c_str());
+  if (!material.empty()) s.problem_resolved.set("material", material.c_str());
   s.headlines.push_back({{"CPU hours for 12000 steps at paper size (1 core)", hours},
                          {"CPU per step (s)", hours / 1000}});
   return s;
@@ -153,7 +207,7 @@ Verdict judge(const std::string& id, const std::vector<StudySummary>& studies) {
 }
 
 /// 001's hours scaled by `factor`: every ratio is the paper's.
-std::vector<StudySummary> papers(double factor) {
+std::vector<StudySummary> papers(double factor, const std::string& material = "") {
   const std::map<std::string, std::pair<double, double>> hours = {{"sph", {34.8, 36.8}},
                                                                    {"rlm", {39.5, 45.0}},
                                                                    {"kbm-si", {39.3, 48.3}},
@@ -161,8 +215,8 @@ std::vector<StudySummary> papers(double factor) {
                                                                    {"efg-ci", {68.7, NAN}}};
   std::vector<StudySummary> out;
   for (const auto& [m, h] : hours) {
-    out.push_back(study(m, "lagrangian", factor * h.first));
-    if (!std::isnan(h.second)) out.push_back(study(m, "eulerian", factor * h.second));
+    out.push_back(study(m, "lagrangian", factor * h.first, material));
+    if (!std::isnan(h.second)) out.push_back(study(m, "eulerian", factor * h.second, material));
   }
   return out;
 }
@@ -204,6 +258,49 @@ TEST(NotchedBeam, FindingsWithoutTheirStudiesAreNotRun) {
   EXPECT_EQ(judge("t5-ratios", {study("sph", "lagrangian", NAN), study("rlm", "lagrangian", 1)})
                 .status,
             "not run");
+}
+
+/// Every ratio 3 times or a third of the paper's: each criterion fails.
+std::vector<StudySummary> turned_round(const std::string& material) {
+  std::vector<StudySummary> s;
+  for (const char* m : {"sph", "rlm", "kbm-si", "efg-ni", "efg-ci"}) {
+    const double lag = std::string(m) == "sph" ? 1.0 : 3.0;
+    s.push_back(study(m, "lagrangian", lag, material));
+    if (std::string(m) != "efg-ci") s.push_back(study(m, "eulerian", 0.5 * lag, material));
+  }
+  return s;
+}
+
+TEST(NotchedBeam, TheInelasticFindingsJudgeOnlyTheInelasticStudies) {
+  const std::vector<std::string> svk_ids = {"t5-ratios", "t6-ratios", "lagrangian-alike",
+                                            "eulerian-slower"};
+  const std::vector<std::string> inelastic_ids = {"t5-ratios-inelastic", "t6-ratios-inelastic"};
+  // The paper's ratios with j2-viscoplastic: its findings reproduce, the svk ones do not run.
+  for (const auto& id : inelastic_ids)
+    EXPECT_EQ(judge(id, papers(0.01, "j2-viscoplastic")).status, "reproduced") << id;
+  for (const auto& id : svk_ids)
+    EXPECT_EQ(judge(id, papers(0.01, "j2-viscoplastic")).status, "not run") << id;
+  // svk studies (with the parameter or without it) never enter the inelastic findings.
+  for (const auto& id : inelastic_ids) {
+    EXPECT_EQ(judge(id, papers(0.01, "svk")).status, "not run") << id;
+    EXPECT_EQ(judge(id, papers(0.01)).status, "not run") << id;
+  }
+  for (const auto& id : svk_ids) EXPECT_EQ(judge(id, papers(0.01, "svk")).status, "reproduced");
+  // Both present, one with the paper's ratios and one turned round: each finding follows its
+  // own material.
+  std::vector<StudySummary> mixed = papers(0.01, "svk");
+  for (auto& s : turned_round("j2-viscoplastic")) mixed.push_back(s);
+  EXPECT_EQ(judge("t5-ratios", mixed).status, "reproduced");
+  EXPECT_EQ(judge("t6-ratios", mixed).status, "reproduced");
+  EXPECT_EQ(judge("t5-ratios-inelastic", mixed).status, "not reproduced");
+  EXPECT_EQ(judge("t6-ratios-inelastic", mixed).status, "not reproduced");
+  mixed = papers(0.01, "j2-viscoplastic");
+  for (auto& s : turned_round("svk")) mixed.push_back(s);
+  EXPECT_EQ(judge("t5-ratios", mixed).status, "not reproduced");
+  EXPECT_EQ(judge("t6-ratios", mixed).status, "not reproduced");
+  EXPECT_EQ(judge("lagrangian-alike", mixed).status, "not reproduced");
+  EXPECT_EQ(judge("t5-ratios-inelastic", mixed).status, "reproduced");
+  EXPECT_EQ(judge("t6-ratios-inelastic", mixed).status, "reproduced");
 }
 
 }  // namespace
