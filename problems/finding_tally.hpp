@@ -4,6 +4,7 @@
 #pragma once
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -24,14 +25,33 @@ inline std::string fmt_or_dash(double v, const char* spec = "{:.3g}") {
   return std::isnan(v) ? "–" : fmt::format(fmt::runtime(spec), v);
 }
 
+/// The studies that measured something with kernel `frame` (and method `method`, any when
+/// empty), in their order.
+inline std::vector<const StudySummary*> studies_in_frame(const std::vector<StudySummary>& all,
+                                                         const std::string& frame,
+                                                         const std::string& method = "") {
+  std::vector<const StudySummary*> out;
+  for (const auto& s : all) {
+    if (s.headlines.empty()) continue;
+    if (!method.empty() && s.method != method) continue;
+    if (s.problem_resolved.text("frame") != frame) continue;
+    out.push_back(&s);
+  }
+  return out;
+}
+
 /// Studies that pass a criterion and that do not, with their numbers.
 struct Tally {
   int yes = 0, no = 0;
   std::string text;
-  void add(const StudySummary& s, bool ok, const std::string& numbers) {
+  /// One judged part, `what` its numbers.
+  void add(bool ok, const std::string& what) {
     (ok ? yes : no) += 1;
-    text += fmt::format("{}{} ({}): {}", text.empty() ? "" : "; ", s.label,
-                        s.problem_resolved.text("frame"), numbers);
+    text += (text.empty() ? "" : "; ") + what;
+  }
+  /// One study, named by its label and kernel frame.
+  void add(const StudySummary& s, bool ok, const std::string& numbers) {
+    add(ok, fmt::format("{} ({}): {}", s.label, s.problem_resolved.text("frame"), numbers));
   }
   /// Every study passes (reproduced), none (not reproduced), some (partly); "not run" with
   /// `missing` when there is no study.

@@ -23,6 +23,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "problems/finding_tally.hpp"
 #include "problems/transient_problem.hpp"
 
 namespace mfv {
@@ -446,27 +447,12 @@ Measured measured(const std::vector<StudySummary>& all, const std::string& metho
   for (const auto& s : all) {
     if (s.method != method || s.headlines.empty() || material_of(s) != material) continue;
     if (!s.problem_resolved.has("frame") || s.problem_resolved.text("frame") != frame) continue;
-    const auto it = s.headlines.back().find("CPU hours for 12000 steps at paper size (1 core)");
-    if (it == s.headlines.back().end() || !std::isfinite(it->second) || !(it->second > 0))
-      continue;
-    return {it->second, s.label};
+    const double hours = finding::last(s, "CPU hours for 12000 steps at paper size (1 core)");
+    if (!std::isfinite(hours) || !(hours > 0)) continue;
+    return {hours, s.label};
   }
   return {};
 }
-
-/// Passed and failed parts of a verdict.
-struct Count {
-  int yes = 0, no = 0;
-  std::string text;
-  void add(bool ok, const std::string& what) {
-    (ok ? yes : no) += 1;
-    text += (text.empty() ? "" : "; ") + what;
-  }
-  Verdict verdict(const std::string& missing) const {
-    if (yes + no == 0) return {"not run", missing};
-    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text};
-  }
-};
 
 /// ours / paper within [1/f, f].
 constexpr double kRatioFactor = 1.5;
@@ -486,7 +472,7 @@ std::function<Verdict(const std::vector<StudySummary>&)> t5_check(const std::str
   return [material](const std::vector<StudySummary>& all) {
     const Measured sph = measured(all, "sph", "lagrangian", material);
     if (std::isnan(sph.hours)) return Verdict{"not run", "needs a Lagrangian sph study"};
-    Count c;
+    finding::Tally c;
     for (const auto& row : kPaper) {
       if (std::string(row.method) == "sph") continue;
       const Measured m = measured(all, row.method, "lagrangian", material);
@@ -508,7 +494,7 @@ std::function<Verdict(const std::vector<StudySummary>&)> t5_check(const std::str
 /// method within a factor of the paper's ratio.
 std::function<Verdict(const std::vector<StudySummary>&)> t6_check(const std::string& material) {
   return [material](const std::vector<StudySummary>& all) {
-    Count c;
+    finding::Tally c;
     for (const auto& row : kPaper) {
       if (std::isnan(row.eulerian_hours)) continue;
       const Measured l = measured(all, row.method, "lagrangian", material);
@@ -555,7 +541,7 @@ std::vector<Finding> NotchedBeam::findings() const {
          const Measured ci = measured(all, "efg-ci", "lagrangian");
          if (std::isnan(sph.hours) || std::isnan(ci.hours))
            return Verdict{"not run", "needs Lagrangian sph and efg-ci studies"};
-         Count c;
+         finding::Tally c;
          double most = sph.hours;
          for (const char* m : {"rlm", "kbm-si", "efg-ni"}) {
            const Measured x = measured(all, m, "lagrangian");
@@ -583,7 +569,7 @@ std::vector<Finding> NotchedBeam::findings() const {
          const Measured efg = measured(all, "efg-ni", "eulerian");
          if (std::isnan(sph.hours) || std::isnan(efg.hours))
            return Verdict{"not run", "needs Eulerian sph and efg-ni studies"};
-         Count c;
+         finding::Tally c;
          for (const auto& row : kPaper) {
            const Measured l = measured(all, row.method, "lagrangian");
            const Measured e = measured(all, row.method, "eulerian");
@@ -623,11 +609,6 @@ std::vector<Finding> NotchedBeam::findings() const {
 }
 
 std::string NotchedBeam::studies_table(const std::vector<StudySummary>& all) const {
-  auto headline = [](const StudySummary& s, const char* key) {
-    if (s.headlines.empty()) return static_cast<double>(NAN);
-    const auto it = s.headlines.back().find(key);
-    return it == s.headlines.back().end() ? static_cast<double>(NAN) : it->second;
-  };
   auto shown = [](double v, const char* spec) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(spec), v) : std::string("–");
   };
@@ -650,16 +631,16 @@ std::string NotchedBeam::studies_table(const std::vector<StudySummary>& all) con
               s.problem_resolved.text("frame") != frame || material_of(s) != material)
             continue;
           const bool lag = std::string(frame) == "lagrangian";
-          const double hours = headline(s, "CPU hours for 12000 steps at paper size (1 core)");
+          const double hours = finding::last(s, "CPU hours for 12000 steps at paper size (1 core)");
           const double paper = lag ? row.lagrangian_hours : row.eulerian_hours;
           const double paper_sph = lag ? kPaper[0].lagrangian_hours : kPaper[0].eulerian_hours;
           const double other = measured(all, row.method, "lagrangian", material).hours;
           md += fmt::format(
               "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
               material_of(s) == "svk" ? s.label : s.label + " (" + material + ")", frame,
-              shown(headline(s, "particles"), "{:.0f}"),
-              shown(headline(s, "integration points"), "{:.0f}"),
-              shown(headline(s, "steps"), "{:.0f}"), shown(headline(s, "CPU per step (s)"), "{:.3e}"),
+              shown(finding::last(s, "particles"), "{:.0f}"),
+              shown(finding::last(s, "integration points"), "{:.0f}"),
+              shown(finding::last(s, "steps"), "{:.0f}"), shown(finding::last(s, "CPU per step (s)"), "{:.3e}"),
               shown(hours, "{:.3g}"), shown(paper, "{:.1f}"),
               shown(hours / (lag ? sph_l : sph_e), "{:.2f}"), shown(paper / paper_sph, "{:.2f}"),
               lag ? "–" : shown(hours / other, "{:.2f}"),

@@ -506,20 +506,6 @@ TransientDefinition Plate::define(const Discretization& d, const TransientInputs
   return def;
 }
 
-/// The compressed-plate studies with `frame` (every method when `method` is empty).
-std::vector<const StudySummary*> plate_studies(const std::vector<StudySummary>& all,
-                                               const std::string& frame,
-                                               const std::string& method = "") {
-  std::vector<const StudySummary*> out;
-  for (const auto& s : all) {
-    if (s.headlines.empty()) continue;
-    if (!method.empty() && s.method != method) continue;
-    if (s.problem_resolved.text("frame") != frame) continue;
-    out.push_back(&s);
-  }
-  return out;
-}
-
 }  // namespace
 
 std::vector<Finding> Plate::findings() const {
@@ -538,7 +524,7 @@ std::vector<Finding> Plate::findings() const {
        [](const std::vector<StudySummary>& all) {
          Tally t;
          for (const char* frame : {"lagrangian", "eulerian"})
-           for (const auto* s : plate_studies(all, frame)) {
+           for (const auto* s : finding::studies_in_frame(all, frame)) {
              const double a = last(*s, "band angle (deg)");
              const bool blew = last(*s, "unstable") == 1;
              t.add(*s, std::abs(a - 45) <= kAngleTolerance,
@@ -572,8 +558,8 @@ std::vector<Finding> Plate::findings() const {
                    kGrowFactor, kTrendWindow, kOscillationFloor, kSpentStrength),
        [](const std::vector<StudySummary>& all) {
          Tally pairs;
-         for (const auto* l : plate_studies(all, "lagrangian"))
-           for (const auto* e : plate_studies(all, "eulerian", l->method)) {
+         for (const auto* l : finding::studies_in_frame(all, "lagrangian"))
+           for (const auto* e : finding::studies_in_frame(all, "eulerian", l->method)) {
              if (l->resolved.to_string() != e->resolved.to_string() ||
                  l->finest_nodes != e->finest_nodes ||
                  l->problem_resolved.text("material") != "viscoplastic" ||

@@ -758,14 +758,8 @@ std::vector<const StudySummary*> ring_studies(const std::vector<StudySummary>& a
                                               const std::string& frame,
                                               const std::string& method,
                                               const std::string& load) {
-  std::vector<const StudySummary*> out;
-  for (const auto& s : all) {
-    if (s.headlines.empty()) continue;
-    if (!method.empty() && s.method != method) continue;
-    if (s.problem_resolved.text("frame") != frame) continue;
-    if (s.problem_resolved.text("load") != load) continue;
-    out.push_back(&s);
-  }
+  std::vector<const StudySummary*> out = finding::studies_in_frame(all, frame, method);
+  std::erase_if(out, [&](const StudySummary* s) { return s->problem_resolved.text("load") != load; });
   return out;
 }
 
