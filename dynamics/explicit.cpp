@@ -215,6 +215,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
                                  opt_.neighbour_skin));
   spacing_ = d_.particles.spacing;
   retabulation_ = Retabulation(opt_.neighbour_skin * spacing_, opt_.threads);
+  retabulation_.degenerate_fallback = model_.degenerate_fallback;
   wave_speed_ = model_.material->wave_speed(dim_, model_.density);
   const int m = dim_ * n_;
   u_ = v_ = a_ = f_int_ = f_ext_ = Eigen::VectorXd::Zero(m);
@@ -255,6 +256,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   const int ns = model_.material->state_size(dim_);
   state_.assign(static_cast<std::size_t>(ns) * nq_, 0.0);
   model_.material->initial_state(dim_, nq_, state_.data());
+  if (model_.initial_state && ns > 0) model_.initial_state(Xq_, ns, state_.data());
   build_force_tables();
   apply_prescribed(0, v_, a_);
   internal_force(u_, Eigen::VectorXd::Zero(m), 0, true, f_int_);
@@ -364,6 +366,19 @@ void add_field_at(const ShapeTable& t, int dim, const Eigen::VectorXd& u, int I,
 void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
   f.setZero(dim_ * n_);
   if (model_.external_force) model_.external_force(t, f);
+  if (model_.particle_forces) {
+    Eigen::MatrixXd& fp = particle_force_;
+    fp.setZero(dim_, n_);
+    model_.particle_forces(t, particle_positions(), fp);
+    if (d_.particle_values) {
+      f += Eigen::Map<const Eigen::VectorXd>(fp.data(), fp.size());
+    } else {
+      const ShapeTable& tv = values_at_particles_;
+      for (int I = 0; I < n_; ++I)
+        for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
+          for (int c = 0; c < dim_; ++c) f[dim_ * tv.index[e] + c] += tv.value[e] * fp(c, I);
+    }
+  }
   for (const FollowerPressure& fp : model_.follower_pressures) {
     const double p = fp.pressure(t);
     if (p == 0) continue;
@@ -614,6 +629,8 @@ void ExplicitDynamics::retabulate() {
   }
   for (int q = 0; q < nq_; ++q) d_.quadrature.weights[q] = w0_[q] * jac(q);
   method_.retabulate(d_, 1, retabulation_);
+  counters_.degenerate_points = retabulation_.degenerate_points;
+  counters_.degenerate_peak = std::max(counters_.degenerate_peak, counters_.degenerate_points);
   if (d_.trial_q.points() != nq_ || d_.test_q.points() != nq_)
     throw std::logic_error("a method's retabulation changed its integration points");
   build_force_tables();

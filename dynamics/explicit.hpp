@@ -80,6 +80,21 @@ struct DynamicsModel {
   /// External forces at time t into f (dim·N, interleaved), which arrives zeroed; optional.
   std::function<void(double t, Eigen::VectorXd& f)> external_force;
   std::vector<FollowerPressure> follower_pressures;  ///< 2D only
+  /// Forces on the particles where they are now (gravity m_I g, walls): called with the time
+  /// and the current positions (dim × N), adds into f (dim × N, arrives zeroed). Methods
+  /// whose unknowns are not the particle values get Σ_I N_J(X_I) f_I, as follower pressures.
+  /// The engine counts their work as external work, so a conservative wall keeps the
+  /// balance. Optional.
+  std::function<void(double t, const Eigen::MatrixXd& x, Eigen::MatrixXd& f)> particle_forces;
+  /// Sets the material history of the integration points from their reference positions
+  /// (dim × nq), after the material's own initial_state: state_size values per point (a
+  /// fluid's hydrostatic reference density). Optional.
+  std::function<void(const Eigen::MatrixXd& points, int state_size, double* state)>
+      initial_state;
+  /// Eulerian kernel: where a recomputed support is degenerate (too few or collinear
+  /// particles, a splash or a jet breaking up) the method falls back to its uncorrected
+  /// kernel instead of failing (Retabulation::degenerate_fallback); counted in the counters.
+  bool degenerate_fallback = false;
 };
 
 /// How the particle masses are allocated (001 §6).
@@ -99,6 +114,8 @@ struct EnergyBalance {
 struct DynamicsCounters {
   long steps = 0, retabulations = 0;
   long neighbour_rebuilds = 0;  ///< Eulerian: fresh neighbour searches of the retabulations
+  long degenerate_points = 0;   ///< Eulerian: points on the fallback at the last recomputation
+  long degenerate_peak = 0;     ///< ... and the most at any recomputation
 };
 
 class ExplicitDynamics {
@@ -213,7 +230,8 @@ class ExplicitDynamics {
   // (P, or the Kirchhoff stress τ = J σ in the Eulerian frame), material history.
   mutable std::vector<double> F_, stress_, state_, scratch_F_;
   std::vector<double> committed_F_;
-  mutable std::vector<int> nearest_point_;  ///< particle_points(), found on the first call
+  mutable std::vector<int> nearest_point_;
+  mutable Eigen::MatrixXd particle_force_;  ///< scratch of model_.particle_forces  ///< particle_points(), found on the first call
 };
 
 /// Parses "lagrangian"/"eulerian" and "verlet"/"newmark", throwing InputError with the valid

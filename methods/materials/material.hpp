@@ -51,6 +51,7 @@ void register_plastic_1d(MaterialRegistry&);
 void register_hyperelastic(MaterialRegistry&);
 void register_j2_jaumann(MaterialRegistry&);
 void register_j2_viscoplastic(MaterialRegistry&);
+void register_tait(MaterialRegistry&);
 
 /// Registers every material: add one line here for a new one.
 inline void register_all_materials(MaterialRegistry& r) {
@@ -59,6 +60,7 @@ inline void register_all_materials(MaterialRegistry& r) {
   register_hyperelastic(r);
   register_j2_jaumann(r);
   register_j2_viscoplastic(r);
+  register_tait(r);
 }
 
 }  // namespace mfv

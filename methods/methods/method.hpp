@@ -92,6 +92,11 @@ struct Retabulation {
   NeighbourLists at_points;     ///< points: the integration rule's (Galerkin, kbm)
   ShapeTable kernel_table;      ///< sph's kernel sums, kbm's MLS values
   int threads = 1;
+  /// Where a support is degenerate (too few or collinear particles for the correction):
+  /// false throws SingularError as before; true falls back (documented per method).
+  bool degenerate_fallback = false;
+  /// Points that took the fallback at the last recomputation (0 when the option is off).
+  long degenerate_points = 0;
   long rebuilds() const { return at_particles.rebuilds() + at_points.rebuilds(); }
 };
 
