@@ -84,23 +84,21 @@ struct Limits {
   /// Kinetic energy above this multiple of the potential energy released so far (plus the
   /// initial kinetic energy) cannot come from gravity: the scheme made it.
   double energy_factor = 2;
-  /// Energy (J/m) added to the kinetic-energy budget besides the released potential energy:
-  /// what the discrete start can give without gravity, e.g. the elastic energy of the
-  /// hydrostatic state (hydrostatic_elastic_energy), which the settling of a discretized column
-  /// turns into acoustic motion. 0: none.
+  /// Added to the released potential energy in that budget (J/m): the elastic energy a
+  /// hydrostatic state stores at t = 0 (stored_energy), which a released column turns into
+  /// kinetic energy before it has released any potential energy. 0: none.
   double energy_floor = 0;
 };
 
-/// The elastic energy of the hydrostatic state, Σ_I V_I p_I² / (2 ρ0 c0²) with
-/// p_I = ρ0 g (surface − y_I) (0 above the surface): the most the settling of a discretized
-/// column at rest can turn into motion. x: 2 × N positions, volume: N.
-double hydrostatic_elastic_energy(const Water& water, double surface, const Eigen::MatrixXd& x,
-                                  const Eigen::VectorXd& volume);
+/// Σ_I V_I p_I² / (2 ρ0 c0²): the elastic energy of water at the pressures p of particles of
+/// volumes V (the Tait fluid linearized about ρ0).
+double stored_energy(const Eigen::VectorXd& volume, const Eigen::VectorXd& pressure,
+                     const Water& water);
 
 /// The watch of a fluid run, called after every step (TransientDefinition::unstable):
 /// returns the first reason for a blow-up ("" while sound) — a non-finite field, an inverted
 /// point (det F ≤ 0), a particle faster than limits.speed, or kinetic energy beyond
-/// limits.energy_factor × the released potential energy (plus limits.energy_floor). Keeps the history of the
+/// limits.energy_factor × the released potential energy. Keeps the history of the
 /// speed, kinetic energy and density range for the growth rate and the verdicts.
 class Watch {
  public:

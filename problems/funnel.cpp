@@ -186,7 +186,9 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
   limits.energy_factor = kEnergyFactor;
   // The settling of the discretized hydrostatic column moves water before gravity has
   // released anything: its budget is the elastic energy of the hydrostatic state.
-  limits.energy_floor = fluid::hydrostatic_elastic_energy(water_, H0, ps.x, ps.volume);
+  Eigen::VectorXd p0(n);
+  for (int I = 0; I < n; ++I) p0[I] = water_.rho0 * g * std::max(H0 - ps.x(1, I), 0.0);
+  limits.energy_floor = fluid::stored_energy(ps.volume, p0, water_);
   const double potential0 = fluid::potential_energy(ps.x, mass, g);
 
   struct Track {
@@ -431,7 +433,7 @@ std::vector<Finding> Funnel::findings() const {
            "(C_c from the flat wall's, start-up from rest included, to the 45° walls', "
            "quasi-steady); the Lagrangian run's blow-up is detected (non-finite fields, det F ≤ "
            "0, a particle faster than max({:g} √(2 g H0), 2 (√(2 g H0) + g t_end)), or kinetic "
-           "energy above {:g} × the released potential energy plus the hydrostatic state's elastic energy) before the band's earliest "
+           "energy above {:g} × (the released potential energy plus the hydrostatic state's elastic energy)) before the band's earliest "
            "half-drain time",
            kEnergyBound, kDensityBound * 100, kSpeedFactor, kEnergyFactor),
        [](const std::vector<StudySummary>& all) {
