@@ -16,9 +16,9 @@ void register_time_step(ProblemRegistry&);
 void register_enriched_bar(ProblemRegistry&);
 void register_stretch_map(ProblemRegistry&);
 void register_rings(ProblemRegistry&);
+void register_funnel(ProblemRegistry&);
 void register_plate(ProblemRegistry&);
 void register_notched_beam(ProblemRegistry&);
-void register_funnel(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -34,9 +34,9 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_enriched_bar(r);
   register_stretch_map(r);
   register_rings(r);
+  register_funnel(r);
   register_plate(r);
   register_notched_beam(r);
-  register_funnel(r);
 }
 
 }  // namespace mfv
