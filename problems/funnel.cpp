@@ -169,6 +169,7 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
                           "penalty walls (reach Δx/2), no deletion: drained water falls freely",
                           H0, geometry_.outlet * 1e3, g);
 
+  const funnel::Geometry geometry = geometry_;
   // The band on a grid of times, for the probes and profiles.
   const funnel::Torricelli fast = fast_edge(), slow = slow_edge();
   std::vector<double> band_t(kBandPoints);
@@ -177,7 +178,7 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
   const std::vector<double> fast_h = fast.levels(band_t), slow_h = slow.levels(band_t);
   const double half_fast = fast.time_to_drain(0.5, std::max(10 * t_end, 5.0));
   const double half_slow = slow.time_to_drain(0.5, std::max(10 * t_end, 5.0));
-  auto band_at = [band_t, t_end](const std::vector<double>& v, double t) {
+  auto band_at = [t_end](const std::vector<double>& v, double t) {
     const double s = std::clamp(t / t_end, 0.0, 1.0) * (kBandPoints - 1);
     const int k = std::min(static_cast<int>(s), kBandPoints - 2);
     return v[k] + (s - k) * (v[k + 1] - v[k]);
@@ -281,7 +282,7 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
     return std::vector<double>{f,
                                band_at(fast_f, t),
                                band_at(slow_f, t),
-                               funnel::level_from_drained(geometry_, H0, f),
+                               funnel::level_from_drained(geometry, H0, f),
                                rate,
                                potential0 - fluid::potential_energy(x, mass, g),
                                v.cols() ? v.colwise().norm().maxCoeff() : 0.0};
@@ -311,7 +312,6 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
 
   const std::string frame = in.dynamics.text("frame");
   const double rho0 = water_.rho0;
-  const funnel::Geometry geometry = geometry_;
   const double cc_fast = fast.cc, cc_slow = slow.cc;
   def.finish = [=](const ExplicitDynamics& sim, const TransientOutcome& out,
                    TransientMeasures& m) {
