@@ -103,6 +103,12 @@ DynamicsModel water_model(const Discretization& d, const MaterialRegistry& mater
   return model;
 }
 
+double stored_energy(const Eigen::VectorXd& volume, const Eigen::VectorXd& pressure,
+                     const Water& water) {
+  const double c0 = water.sound_speed();
+  return volume.dot(pressure.cwiseProduct(pressure)) / (2 * water.rho0 * c0 * c0);
+}
+
 double potential_energy(const Eigen::MatrixXd& x, const Eigen::VectorXd& mass, double g) {
   return g * x.row(1).dot(mass);
 }
@@ -122,7 +128,7 @@ std::string Watch::check(const ExplicitDynamics& sim) {
   released_ = std::max(released_, potential0_ - potential_energy(x, mass_, g_));
   const double kinetic = sim.kinetic_energy();
   const double k0 = sim.energy().initial;
-  const double budget = limits_.energy_factor * (released_ + k0);
+  const double budget = limits_.energy_factor * (released_ + k0 + limits_.energy_floor);
   if (budget > 0 && kinetic > budget)
     return fmt::format("kinetic energy {:.3g} J/m above {:g} × the released potential energy "
                        "({:.3g} J/m)",

@@ -84,7 +84,16 @@ struct Limits {
   /// Kinetic energy above this multiple of the potential energy released so far (plus the
   /// initial kinetic energy) cannot come from gravity: the scheme made it.
   double energy_factor = 2;
+  /// Added to the released potential energy in that budget (J/m): the elastic energy a
+  /// hydrostatic state stores at t = 0 (stored_energy), which a released column turns into
+  /// kinetic energy before it has released any potential energy. 0: none.
+  double energy_floor = 0;
 };
+
+/// Σ_I V_I p_I² / (2 ρ0 c0²): the elastic energy of water at the pressures p of particles of
+/// volumes V (the Tait fluid linearized about ρ0).
+double stored_energy(const Eigen::VectorXd& volume, const Eigen::VectorXd& pressure,
+                     const Water& water);
 
 /// The watch of a fluid run, called after every step (TransientDefinition::unstable):
 /// returns the first reason for a blow-up ("" while sound) — a non-finite field, an inverted

@@ -18,6 +18,8 @@ void register_stretch_map(ProblemRegistry&);
 void register_rings(ProblemRegistry&);
 void register_plate(ProblemRegistry&);
 void register_notched_beam(ProblemRegistry&);
+void register_hydrostatic_column(ProblemRegistry&);
+void register_dam_break(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -35,6 +37,8 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_rings(r);
   register_plate(r);
   register_notched_beam(r);
+  register_hydrostatic_column(r);
+  register_dam_break(r);
 }
 
 }  // namespace mfv
