@@ -92,6 +92,9 @@ struct TransientData : AnalysisResult {
   double dt = 0, dt_critical = 0, end_time = 0;
   long steps = 0, retabulations = 0;
   long neighbour_rebuilds = 0;  ///< Eulerian: fresh neighbour searches among the retabulations
+  /// Eulerian with DynamicsModel::degenerate_fallback: the most points on the fallback at any
+  /// recomputation (0: every support kept its correction).
+  long degenerate_peak = 0;
   /// The run ended before its end time (unstable, or a problem's stop cap): peak values
   /// measured over it are lower bounds of what the full run would reach.
   bool stopped_early = false;

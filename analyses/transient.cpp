@@ -61,6 +61,14 @@ DynamicsOptions dynamics_options(const Params& p) {
   return o;
 }
 
+std::string degenerate_note(long degenerate_peak) {
+  return degenerate_peak > 0
+             ? fmt::format(", at most {} points on the uncorrected-kernel fallback of degenerate "
+                           "supports",
+                           degenerate_peak)
+             : "";
+}
+
 StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
   StepChoice c;
   c.critical = sim.critical_time_step();
@@ -199,6 +207,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
   td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;
   td.neighbour_rebuilds = sim.counters().neighbour_rebuilds;
+  td.degenerate_peak = sim.counters().degenerate_peak;
   m.headline["energy drift"] = scale > 0 ? worst / scale : 0.0;
 }
 
@@ -291,8 +300,9 @@ class TransientAnalysis final : public Analysis {
                            ? fmt::format(" (stopped early; end time {:.6g})", t.end_time)
                            : "",
                        t.retabulations > 0
-                           ? fmt::format(", {} retabulations ({} neighbour searches)",
-                                         t.retabulations, t.neighbour_rebuilds)
+                           ? fmt::format(", {} retabulations ({} neighbour searches{})",
+                                         t.retabulations, t.neighbour_rebuilds,
+                                         degenerate_note(t.degenerate_peak))
                            : "");
     if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
     // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.

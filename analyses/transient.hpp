@@ -53,4 +53,8 @@ struct StepChoice {
 };
 StepChoice choose_step(const ExplicitDynamics& sim, const Params& dynamics);
 
+/// ", at most K points on the uncorrected-kernel fallback" for a run whose recomputed
+/// supports degenerated (TransientData::degenerate_peak > 0), "" otherwise.
+std::string degenerate_note(long degenerate_peak);
+
 }  // namespace mfv

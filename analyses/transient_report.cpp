@@ -167,9 +167,10 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     return fmt::format("`{}`: {}; {}{}", s.label, s.cases.front().method_description,
                        s.cases.front().data<TransientData>().dynamics,
                        d.retabulations > 0
-                           ? fmt::format(" ({} retabulations, {} neighbour searches at the "
+                           ? fmt::format(" ({} retabulations, {} neighbour searches{} at the "
                                          "finest resolution)",
-                                         d.retabulations, d.neighbour_rebuilds)
+                                         d.retabulations, d.neighbour_rebuilds,
+                                         degenerate_note(d.degenerate_peak))
                            : "");
   });
 

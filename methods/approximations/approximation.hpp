@@ -25,10 +25,13 @@ class Approximation {
   /// positions (Eulerian kernels): the neighbour candidates come from `lists`, updated here
   /// (rebuilt only when the particles or points moved past its skin), and the points are
   /// spread over `threads` OpenMP threads. The table equals evaluate()'s bit for bit, on any
-  /// thread count. The default calls evaluate() and ignores the lists.
+  /// thread count. With `degenerate` (Eulerian recomputations that asked for it) a point
+  /// whose support is too small or singular for the approximation falls back instead of
+  /// throwing, and is marked there; what it falls back to is the approximation's to say.
+  /// The default calls evaluate(), ignores the lists and offers no fallback.
   virtual void evaluate_into(const ParticleSet& particles, const Eigen::MatrixXd& points,
-                             int order, NeighbourLists& lists, int threads,
-                             ShapeTable& out) const {
+                             int order, NeighbourLists& lists, int threads, ShapeTable& out,
+                             DegenerateMarks* degenerate = nullptr) const {
     out = evaluate(particles, points, order);
   }
   /// Fewest particles a point's support must hold (the size of the polynomial basis).
@@ -52,6 +55,15 @@ struct CorrectedKernelOptions {
 
 /// Basis × weight × correction: N_J(x) = p(x)ᵀ M(x)⁻¹ p(x_J) w_J(x), M = Σ_J w_J p(x_J) p(x_J)ᵀ
 /// (the moment matrix, 004 II eq 3.3 / 001 eq 40), w_J = W(|x - x_J|/a_J)/a_J^d [ΔV_J].
+///
+/// Degenerate supports (evaluate_into with `degenerate`, Eulerian recomputations only): where
+/// the support holds fewer particles than the basis or the moment matrix fails the rcond test
+/// (1e-13, the one that throws otherwise), the point takes the Shepard functions of the same
+/// weights, N_J = w_J / Σ w (basis 1; their exact derivatives, also for the diffuse option),
+/// so the partition of unity still holds there: splashes keep zero-order consistency instead
+/// of ending the run, as production SPH codes fall back to the uncorrected kernel. Where Σ w
+/// is zero or not a normal number (an empty support; for the uncorrected sph kernel sum, only
+/// this) the row is zero: the point takes part in no sum.
 class CorrectedKernelApproximation final : public Approximation {
  public:
   CorrectedKernelApproximation(std::shared_ptr<const Kernel> kernel, CorrectedKernelOptions opts,
@@ -59,7 +71,8 @@ class CorrectedKernelApproximation final : public Approximation {
   ShapeTable evaluate(const ParticleSet& particles, const Eigen::MatrixXd& points,
                       int order) const override;
   void evaluate_into(const ParticleSet& particles, const Eigen::MatrixXd& points, int order,
-                     NeighbourLists& lists, int threads, ShapeTable& out) const override;
+                     NeighbourLists& lists, int threads, ShapeTable& out,
+                     DegenerateMarks* degenerate = nullptr) const override;
   int minimum_support_count(int dim) const override;
   int reproduction_order() const override { return options_.correct ? options_.basis_order : -1; }
   /// The search radius of a point: the kernel's support times the largest dilation.

@@ -202,11 +202,47 @@ struct CorrectedKernelApproximation::PointEvaluator {
     return true;
   }
 
+  /// The fallback row of a degenerate support (the class comment says when): the Shepard
+  /// functions N_J = γ w_J, γ = 1/S, S = Σ w_J, with their exact derivatives
+  /// ∂_i γ = -S_i/S², ∂_ij γ = -S_ij/S² + 2 S_i S_j/S³; a zero row where S is not a normal
+  /// positive number (an empty support has nothing to normalize).
+  void shepard_fallback(const PointScratch& sc, ShapeTable& t, int row0) const {
+    const std::size_t k = sc.nbrs.size();
+    const std::vector<double>&w = sc.w, &gw = sc.gw, &hw = sc.hw;
+    double S = 0, Si[3] = {}, Sij[9] = {};
+    for (std::size_t m = 0; m < k; ++m) {
+      S += w[m];
+      for (int i = 0; i < dim && order >= 1; ++i) Si[i] += gw[m * dim + i];
+      for (int i = 0; i < nh && order >= 2; ++i) Sij[i] += hw[m * nh + i];
+    }
+    const bool empty =
+        !(S >= std::numeric_limits<double>::min() && S <= std::numeric_limits<double>::max());
+    const double gamma = empty ? 0.0 : 1.0 / S;
+    double gd[3] = {}, gdd[9] = {};
+    for (int i = 0; i < dim && order >= 1 && !empty; ++i) gd[i] = -Si[i] * gamma / S;
+    for (int i = 0; i < dim && order >= 2 && !empty; ++i)
+      for (int j = 0; j < dim; ++j)
+        gdd[i * dim + j] = (-Sij[i * dim + j] + 2 * Si[i] * Si[j] * gamma) * gamma / S;
+    for (std::size_t m = 0; m < k; ++m) {
+      t.value[row0 + m] = gamma * w[m];
+      for (int i = 0; i < dim && order >= 1; ++i)
+        t.grad[(row0 + m) * dim + i] = gd[i] * w[m] + gamma * gw[m * dim + i];
+      for (int i = 0; i < dim && order >= 2; ++i)
+        for (int j = 0; j < dim; ++j) {
+          const int ij = i * dim + j;
+          t.hess[(row0 + m) * nh + ij] = gdd[ij] * w[m] + gd[i] * gw[m * dim + j] +
+                                         gd[j] * gw[m * dim + i] + gamma * hw[m * nh + ij];
+        }
+    }
+  }
+
   /// Row of point x (its support already in sc, k = sc.nbrs.size()) into t from entry row0.
-  void fill(const double* x, PointScratch& sc, ShapeTable& t, int row0) const {
+  /// With `fallback`, a support that would throw SingularError takes shepard_fallback's row
+  /// instead, and the call returns true; every other row is computed as without it.
+  bool fill(const double* x, PointScratch& sc, ShapeTable& t, int row0, bool fallback) const {
     const CorrectedKernelOptions& o = a.options_;
     const std::size_t k = sc.nbrs.size();
-    check_count(x, k);
+    if (!fallback) check_count(x, k);
     std::vector<double>&s = sc.s, &W = sc.W, &dW = sc.dW, &d2W = sc.d2W, &w = sc.w, &gw = sc.gw,
                        &hw = sc.hw, &r = sc.r;
     W.resize(k);
@@ -241,16 +277,20 @@ struct CorrectedKernelApproximation::PointEvaluator {
     }
 
     std::copy(sc.nbrs.begin(), sc.nbrs.end(), t.index.begin() + row0);
+    if (fallback && static_cast<int>(k) < std::max(1, a.minimum_support_count(dim))) {
+      shepard_fallback(sc, t, row0);
+      return true;
+    }
     if (!o.correct) {
       for (std::size_t m = 0; m < k; ++m) {
         t.value[row0 + m] = w[m];
         for (int i = 0; i < dim && order >= 1; ++i) t.grad[(row0 + m) * dim + i] = gw[m * dim + i];
         for (int i = 0; i < nh && order >= 2; ++i) t.hess[(row0 + m) * nh + i] = hw[m * nh + i];
       }
-      return;
+      return false;
     }
 
-    if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return;
+    if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return false;
 
     // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
     Eigen::MatrixXd& P = sc.P;
@@ -267,6 +307,10 @@ struct CorrectedKernelApproximation::PointEvaluator {
     Eigen::LDLT<Eigen::MatrixXd>& ldlt = sc.ldlt;
     ldlt.compute(M);
     const double rc = ldlt.rcond();
+    if (fallback && (ldlt.info() != Eigen::Success || !(rc > 1e-13))) {
+      shepard_fallback(sc, t, row0);
+      return true;
+    }
     if (ldlt.info() != Eigen::Success || !(rc > 1e-13))
       throw SingularError(fmt::format(
           "{}: the moment matrix at {} is singular (reciprocal condition {:.2e}) with {} "
@@ -332,6 +376,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
             t.hess[(row0 + m) * nh + ij] = v;
           }
     }
+    return false;
   }
 };
 
@@ -347,7 +392,7 @@ ShapeTable CorrectedKernelApproximation::evaluate(const ParticleSet& particles,
 void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
                                                  const Eigen::MatrixXd& points, int order,
                                                  NeighbourLists& lists, int threads,
-                                                 ShapeTable& t) const {
+                                                 ShapeTable& t, DegenerateMarks* degenerate) const {
   const int dim = particles.dim;
   if (points.rows() != dim)
     throw std::logic_error("evaluation points and particles differ in dimension");
@@ -384,6 +429,7 @@ void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
   t.value.resize(entries);
   t.grad.resize(order >= 1 ? entries * dim : 0);
   t.hess.resize(order >= 2 ? entries * dim * dim : 0);
+  if (degenerate) degenerate->cover(nq);
 #pragma omp parallel num_threads(threads) if (parallel)
   {
     PointScratch sc;
@@ -392,7 +438,7 @@ void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
       const double* x = points.col(q).data();
       try {
         eval.support_of(x, lists.candidates(q), sc);
-        eval.fill(x, sc, t, t.offsets[q]);
+        if (eval.fill(x, sc, t, t.offsets[q], degenerate != nullptr)) degenerate->mark(q);
       } catch (...) {
         error.keep(q, std::current_exception());
       }

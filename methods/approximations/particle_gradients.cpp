@@ -25,15 +25,20 @@ int diagonal_entry(const ShapeTable& t, int q) {
 
 /// M⁻¹ into `inverse` (lu and inverse are the caller's, reused), or SingularError with what()
 /// when M is singular or nearly so (relative to its size); the message is built only then,
-/// since this runs once per point.
+/// since this runs once per point. With `fallback` the singular case gives inverse = I and
+/// returns true instead of throwing (the callers' headers say what the identity means).
 template <class Message>
-void invert_or_throw(const Eigen::MatrixXd& M, Eigen::FullPivLU<Eigen::MatrixXd>& lu,
-                     Eigen::MatrixXd& inverse, const Message& what) {
+bool invert_or_throw(const Eigen::MatrixXd& M, Eigen::FullPivLU<Eigen::MatrixXd>& lu,
+                     Eigen::MatrixXd& inverse, const Message& what, bool fallback = false) {
   lu.compute(M);
   if (!lu.isInvertible() ||
-      !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), static_cast<double>(M.rows()))))
-    throw SingularError(what());
+      !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), static_cast<double>(M.rows())))) {
+    if (!fallback) throw SingularError(what());
+    inverse.setIdentity(M.rows(), M.cols());
+    return true;
+  }
   inverse = lu.inverse();
+  return false;
 }
 
 /// Copy of the row structure with values δ_IJ, gradients zeroed, into t (storage reused).
@@ -85,7 +90,7 @@ RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet&
 }
 
 void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLiberskyTables& out,
-                      int threads) {
+                      int threads, DegenerateMarks* degenerate) {
   const int dim = sph.dim;
   const int n = sph.points();
   threads = std::max(1, threads);
@@ -93,6 +98,7 @@ void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLibers
   delta_table(sph, out.test);
   ShapeTable& G = out.trial;
   ShapeTable& H = out.test;
+  if (degenerate) degenerate->cover(n);
   FirstError error;
   // Trial rows: c_IJ = Bᵀ_I g_IJ with g_IJ = V_J ∇W(X_I - X_J) from the SPH table; row I
   // writes only its own entries.
@@ -111,12 +117,16 @@ void randles_libersky(const ShapeTable& sph, const ParticleSet& p, RandlesLibers
             for (int b = 0; b < dim; ++b)
               Binv(a, b) += (p.x(a, J) - p.x(a, I)) * sph.grad[k * dim + b];
         }
-        invert_or_throw(Binv, lu, Bi, [I] {
-          return fmt::format("rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} is "
-                             "singular; its neighbours are too few or collinear: raise the "
-                             "support (dmax)",
-                             I);
-        });
+        const bool fell_back = invert_or_throw(
+            Binv, lu, Bi,
+            [I] {
+              return fmt::format("rlm: the normalization matrix B⁻¹ (001 eq 34) of particle {} "
+                                 "is singular; its neighbours are too few or collinear: raise "
+                                 "the support (dmax)",
+                                 I);
+            },
+            degenerate != nullptr);
+        if (fell_back) degenerate->mark(I);
         Bt = Bi.transpose();
         const int kd = diagonal_entry(sph, I);
         for (int k = sph.offsets[I]; k < sph.offsets[I + 1]; ++k) {
@@ -178,7 +188,7 @@ ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& value
 
 void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
                         const ParticleSet& p, const Eigen::MatrixXd& points, ShapeTable& t,
-                        int threads) {
+                        int threads, DegenerateMarks* degenerate) {
   require_same_rows(shepard, values);
   const int dim = shepard.dim;
   const int n = shepard.points();
@@ -189,6 +199,7 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
   t.value = values.value;
   t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
   t.hess.clear();
+  if (degenerate) degenerate->cover(n);
   FirstError error;
 #pragma omp parallel num_threads(std::max(1, threads)) if (run_parallel(threads, n))
   {
@@ -198,6 +209,18 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
 #pragma omp for schedule(static)
     for (int q = 0; q < n; ++q) {
       try {
+        if (degenerate) {
+          // An empty support (the Shepard row sums to zero, its fallback): no value and no
+          // gradient, so the point takes part in no sum.
+          double sum = 0;
+          for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k)
+            sum += shepard.value[k];
+          if (sum == 0) {
+            for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) t.value[k] = 0;
+            degenerate->mark(q);
+            continue;
+          }
+        }
         // M_jb = Σ_I ∂_j W^S_I (X_I - x)_b: the shift by x changes nothing (Σ ∇W^S = 0) but
         // keeps the sums well scaled.
         M.setZero();
@@ -206,12 +229,16 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
             for (int b = 0; b < dim; ++b)
               M(j, b) += shepard.grad[k * dim + j] * (p.x(b, shepard.index[k]) - points(b, q));
         // G_I = a ∇W^S_I with a = M⁻¹ (eq 31: A aᵀ = I with A = Mᵀ).
-        invert_or_throw(M, lu, a, [q] {
-          return fmt::format("kbm: the correction matrix A (001 eq 31) is singular at point {}; "
-                             "its support holds too few or collinear particles: raise the "
-                             "support (dmax)",
-                             q);
-        });
+        const bool fell_back = invert_or_throw(
+            M, lu, a,
+            [q] {
+              return fmt::format("kbm: the correction matrix A (001 eq 31) is singular at point "
+                                 "{}; its support holds too few or collinear particles: raise "
+                                 "the support (dmax)",
+                                 q);
+            },
+            degenerate != nullptr);
+        if (fell_back) degenerate->mark(q);
         for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
           for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
           G.noalias() = a * g;

@@ -22,23 +22,35 @@ void sph_symmetric_gradient(const ShapeTable& sph_at_particles, ShapeTable& out,
 /// `trial` holds F_I = Σ_J (u_J - u_I) ⊗ c_IJ; `test` the internal force of Table 1 row RLM,
 /// f_I = -V_I Σ_J (σ_J + σ_I) · c_IJ, written as f_I = Σ_q V_q H_I(X_q) · σ_q so every
 /// method assembles Σ_q w_q H_I(x_q)ᵀ σ_q. Throws SingularError where B_I⁻¹ is singular.
+/// With `degenerate` (Eulerian recomputations that ask for it) a singular B_I⁻¹ (too few or
+/// collinear neighbours, the same determinant test) takes B_I = I instead, the plain SPH
+/// gradient of eq 25 at that particle: constants still give zero gradients and the force
+/// stays the transpose, so splashes go on at zero-order consistency; an isolated particle's
+/// row has only itself and gets zero gradients. The particle is marked there.
 struct RandlesLiberskyTables {
   ShapeTable trial, test;
 };
 RandlesLiberskyTables randles_libersky(const ShapeTable& sph_at_particles,
                                        const ParticleSet& particles);
 void randles_libersky(const ShapeTable& sph_at_particles, const ParticleSet& particles,
-                      RandlesLiberskyTables& out, int threads);
+                      RandlesLiberskyTables& out, int threads,
+                      DegenerateMarks* degenerate = nullptr);
 
 /// Krongauz–Belytschko corrected gradient (001 eqs 26–32): G_I(x) = a(x) · ∇W^S_I(x) with
 /// a = M⁻¹, M = Σ_I ∇W^S_I(x) ⊗ X_I, so Σ_I G_I ⊗ X_I = I (eq 29). `shepard` is the Shepard
 /// table at the points (order >= 1). Returns a table with the values of `values` (the trial
 /// functions: MLS in KBM, eq 63) and the corrected gradients. Both tables must share
 /// neighbour lists. Throws SingularError where M is singular.
+/// With `degenerate` (Eulerian recomputations that ask for it), marking the points there:
+/// a singular or ill-conditioned M (the same determinant test) takes a = I, the plain
+/// Shepard gradient ∇W^S_I, which still sums to zero (zero-order consistency) where the
+/// correction has too few or collinear particles to act on; a point whose Shepard row sums
+/// to zero (an empty support, the Shepard fallback of CorrectedKernelApproximation) gets
+/// zero values and gradients, so it gives no velocity gradient and receives no force.
 ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
                               const ParticleSet& particles, const Eigen::MatrixXd& points);
 void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
                         const ParticleSet& particles, const Eigen::MatrixXd& points,
-                        ShapeTable& out, int threads);
+                        ShapeTable& out, int threads, DegenerateMarks* degenerate = nullptr);
 
 }  // namespace mfv

@@ -1,6 +1,7 @@
 /// Shape functions N_J and their derivatives at a batch of points, stored row-compressed
 /// (one row per point, one entry per particle J whose support covers the point).
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -31,6 +32,23 @@ struct ShapeTable {
   /// (components·dim × points; row c·dim + d is ∂u_c/∂x_d).
   void field(const Eigen::VectorXd& u, int components, Eigen::MatrixXd& values,
              Eigen::MatrixXd& gradients) const;
+};
+
+/// Where a point's support is degenerate (too few or collinear particles for a correction)
+/// and the caller asked for a fallback instead of a SingularError (Eulerian recomputations
+/// with Retabulation::degenerate_fallback): a table builder handed one falls back as its
+/// header says and marks the point here. The builders of several tables at the same points
+/// share one, so a point counts once however many of its tables fell back.
+struct DegenerateMarks {
+  std::vector<char> marked;  ///< one per evaluation point: 1 where a fallback was taken
+
+  /// Grows (never clears) to n points; called before a parallel loop over them, in which
+  /// point q is marked only by the thread that evaluates it.
+  void cover(int n) {
+    if (static_cast<int>(marked.size()) < n) marked.resize(n, 0);
+  }
+  void mark(int q) { marked[q] = 1; }
+  long count() const { return static_cast<long>(std::count(marked.begin(), marked.end(), 1)); }
 };
 
 }  // namespace mfv

@@ -1,6 +1,9 @@
 /// `kbm-ni`, `kbm-si`: Krongauz–Belytschko corrected derivatives (001 eqs 26–32) of MLS trial
 /// functions with Shepard test functions, Petrov–Galerkin (001 §4.1.1), integrated at the
 /// particles (ni) or at particles and stress points (si, eqs 63–65).
+/// Eulerian recomputations with Retabulation::degenerate_fallback: where a point's support is
+/// too small or collinear, the MLS trial values become Shepard values and the correction
+/// a = I (plain Shepard gradient); an empty support gives a zero row (particle_gradients.hpp).
 #include "methods/approximations/particle_gradients.hpp"
 #include "methods/methods/register.hpp"
 
@@ -33,13 +36,17 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
           g.build = [shepard, mls](Discretization& d, int, Retabulation* cache) {
             const Eigen::MatrixXd& pts = d.quadrature.points;
             if (cache) {
-              // Shepard and MLS share kernel and dilations, so one list serves both.
+              // Shepard and MLS share kernel and dilations, so one list serves both; the
+              // three tables are at the same points, so one set of marks counts each once.
+              DegenerateMarks marks;
+              DegenerateMarks* degenerate = cache->degenerate_fallback ? &marks : nullptr;
               shepard->evaluate_into(d.particles, pts, 1, cache->at_points, cache->threads,
-                                     d.test_q);
+                                     d.test_q, degenerate);
               mls->evaluate_into(d.particles, pts, 0, cache->at_points, cache->threads,
-                                 cache->kernel_table);
+                                 cache->kernel_table, degenerate);
               corrected_gradient(d.test_q, cache->kernel_table, d.particles, pts, d.trial_q,
-                                 cache->threads);
+                                 cache->threads, degenerate);
+              cache->degenerate_points = marks.count();
             } else {
               ShapeTable test = shepard->evaluate(d.particles, pts, 1);
               d.trial_q =

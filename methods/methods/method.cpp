@@ -114,13 +114,17 @@ class GalerkinMethod final : public Method {
   }
 
   void retabulate(Discretization& d, int order, Retabulation& c) const override {
+    // Trial and test tables are at the same points: one set of marks counts a point once.
+    DegenerateMarks marks;
+    DegenerateMarks* degenerate = c.degenerate_fallback ? &marks : nullptr;
     r_.trial->evaluate_into(d.particles, d.quadrature.points, order, c.at_points, c.threads,
-                            d.trial_q);
+                            d.trial_q, degenerate);
     if (r_.test)
       r_.test->evaluate_into(d.particles, d.quadrature.points, order, c.at_points, c.threads,
-                             d.test_q);
+                             d.test_q, degenerate);
     else
       d.test_q = d.trial_q;
+    c.degenerate_points = marks.count();
   }
 
  private:

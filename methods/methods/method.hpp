@@ -112,8 +112,13 @@ class Method {
   /// them), keeping the dilations, the rule's points and the method's composition.
   virtual void retabulate(Discretization& d, int order) const = 0;
   /// The same with what the previous recomputations kept (neighbour lists, table storage,
-  /// threads); the tables equal retabulate(d, order)'s. The default ignores the cache.
+  /// threads); the tables equal retabulate(d, order)'s. With cache.degenerate_fallback a
+  /// degenerate support falls back instead of throwing: the corrected-kernel approximations
+  /// to Shepard functions (zero row where empty), rlm to B = I, kbm to a = I (zero row
+  /// where empty); cache.degenerate_points counts the points that did. The default ignores
+  /// the cache (no fallback, degenerate_points 0).
   virtual void retabulate(Discretization& d, int order, Retabulation& cache) const {
+    cache.degenerate_points = 0;
     retabulate(d, order);
   }
 };
@@ -141,7 +146,9 @@ EssentialBC essential_from(const Params& p);
 /// Builds the tables of a method whose operators are not plain shape functions at a rule
 /// (SPH, RLM, KBM): given the particles (dilations set) and the rule, fills trial_q, test_q,
 /// trial, test, form and particle_values of the discretization; with a cache (Eulerian
-/// recomputations) through the approximations' evaluate_into, otherwise evaluate.
+/// recomputations) through the approximations' evaluate_into, otherwise evaluate. With
+/// cache->degenerate_fallback it hands the table builders a DegenerateMarks and sets
+/// cache->degenerate_points to its count (to 0 without the option).
 using TableBuilder = std::function<void(Discretization&, int order, Retabulation* cache)>;
 
 /// A particle method of 001 Table 1: dilation rule, integration scheme and table builder.

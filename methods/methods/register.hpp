@@ -38,9 +38,11 @@ inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
   register_xefg(r, parts);
 }
 
-/// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles.
-using CollocationTables = std::function<void(const ShapeTable& sph, const ParticleSet&,
-                                             Discretization&, int threads)>;
+/// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles;
+/// `degenerate` (null: throw) as the particle gradient functions take it.
+using CollocationTables =
+    std::function<void(const ShapeTable& sph, const ParticleSet&, Discretization&, int threads,
+                       DegenerateMarks* degenerate)>;
 /// A collocation particle method (SPH, RLM): nodal rule, the SPH kernel table at the
 /// particles turned into gradient tables by `tables`, particle values as unknowns and a
 /// linear MLS fit of them as the field between particles.

@@ -1,5 +1,8 @@
 /// `sph`: symmetrized SPH with collocation at the particles (001 Table 1 row SPH, eq 25), and
 /// `sph-galerkin`: Galerkin with the uncorrected SPH kernel estimate (004 II Fig. 3).
+/// Degenerate supports (Retabulation::degenerate_fallback): `sph` divides by no kernel sum and
+/// every particle lies in its own support, so it never needs the fallback; `sph-galerkin`'s
+/// points with an empty support get a zero row (CorrectedKernelApproximation).
 #include "methods/approximations/particle_gradients.hpp"
 #include "methods/methods/register.hpp"
 
@@ -16,11 +19,15 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
   std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
   g.build = [sph, mls, tables](Discretization& d, int, Retabulation* cache) {
     if (cache) {
+      // The kernel sums and the gradients are at the particles: one set of marks.
+      DegenerateMarks marks;
+      DegenerateMarks* degenerate = cache->degenerate_fallback ? &marks : nullptr;
       sph->evaluate_into(d.particles, d.particles.x, 1, cache->at_particles, cache->threads,
-                         cache->kernel_table);
-      tables(cache->kernel_table, d.particles, d, cache->threads);
+                         cache->kernel_table, degenerate);
+      tables(cache->kernel_table, d.particles, d, cache->threads, degenerate);
+      cache->degenerate_points = marks.count();
     } else {
-      tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d, 1);
+      tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d, 1, nullptr);
     }
     d.trial = mls;  // reconstruction of the particle values between particles
     d.test = sph;
@@ -41,7 +48,10 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
         particle_method_schema(parts.kernels, false), [parts](const Params& p) {
           return make_collocation_method(
               parts, p, "symmetrized SPH collocation",
-              [](const ShapeTable& sph, const ParticleSet&, Discretization& d, int threads) {
+              // No correction, nothing to invert: every particle lies in its own support, so
+              // the kernel sums never fall back and a degenerate support needs no fallback.
+              [](const ShapeTable& sph, const ParticleSet&, Discretization& d, int threads,
+                 DegenerateMarks*) {
                 sph_symmetric_gradient(sph, d.trial_q, threads);
                 d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
                 d.gradient_consistency = 0;  // no correction: only constants (001 eq 25)
