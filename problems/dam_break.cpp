@@ -57,6 +57,11 @@ constexpr double kSpeedWindow = 0.25;
 class DamBreak final : public TransientProblem {
  public:
   explicit DamBreak(const Params& p) : p_(p) {
+    if (!(p.number("width") >= 1e-3))
+      throw InputError(fmt::format("dam-break: width = {} m is below 1 mm (the Tait water's "
+                                   "sound crossing of a particle spacing would need more steps "
+                                   "than a run may take); give e.g. 0.05715",
+                                   p.number("width")));
     if (!(p.number("tank") >= 2))
       throw InputError(fmt::format("dam-break: tank = {} must be at least 2 (the right wall at "
                                    "tank × a, beyond the column's width a and its collapse); "

@@ -62,11 +62,13 @@ ExperimentSeries martin_moyce_height() {
 
 std::string martin_moyce_citation() {
   return "J. C. Martin & W. J. Moyce (1952), An experimental study of the collapse of liquid "
-         "columns on a rigid horizontal plane, Phil. Trans. R. Soc. Lond. A 244(882), 312–324, "
-         "doi:10.1098/rsta.1952.0006: Table 2 (surge front Z/a against T = n t √(g/a)) and "
+         "columns on a rigid horizontal plane, Phil. Trans. R. Soc. Lond. A 244(882), 312–324 "
+         "(Part IV of Martin & Moyce's series): Table 2 (surge front Z/a against T = n t √(g/a)) and "
          "Table 6 (column height H/(n² a) against τ = t √(g/a)), n² = 2, a = 2.25 in; as "
          "tabulated in Ocellaris (github.com/TormodLandet/Ocellaris, scripts/plot_dam_break.py, "
-         "commit 44fd559f4e3634e46256051580fb4de72eeb8d39, mmTvec/mmZvec and mmYvec/mmHvec). "
+         "commit 44fd559f4e3634e46256051580fb4de72eeb8d39, mmTvec/mmZvec and mmYvec/mmHvec; not "
+         "read from the paper itself; Lethe's transcription, github.com/chaos-polymtl/lethe, "
+         "examples/multiphysics/dam-break/dam-break-2d.py, differs by at most 0.02 in T). "
          "PySPH's digitization of the paper's Fig. 3 for the same column (github.com/pypr/pysph, "
          "pysph/examples/db_exp_data.py, commit 483e4449f50719350fc2857e8163ea3aae637cc7, "
          "mm_data_2) agrees with it within 0.06 in Z/a over T ≤ 3.35";

@@ -31,12 +31,17 @@ using finding::fmt_or_dash;
 using finding::last;
 using finding::Tally;
 
-/// Verdict tolerances (measured per method in the issue-16 report; the bands of the suite
-/// are these): the time-averaged pressure error over the particles, the peak kinetic energy
-/// over M g H, the density's largest departure from ρ0 and the energy balance over M g H.
+/// Verdict tolerances: the time-averaged pressure error over the points, the peak kinetic
+/// energy over M g H, the density's largest departure from ρ0 and the energy balance over
+/// M g H. The pressure's 0.10: the boundary rows' one-sided supports bias their pressure by
+/// about 15 % in SPH and RLM whatever the spacing (measured: 1.12, 1.16, 1.16 of ρ0 g (H − y)
+/// in SPH's bottom row at Δx = 10, 5, 2.5 mm, the same with the bottom row pinned instead of
+/// the floor wall), which alone is 0.04–0.05 of the norm at 20 × 40 particles; the rest is
+/// the acoustic ripple left by the walls taking up the column's weight (they carry nothing
+/// until penetrated by g H Δx / c0²).
 /// Hydrostatic water of 0.2 m is 0.06 % denser at the bottom than at the top, so 1 % is far
 /// above the state itself and far below a column that has slumped or burst.
-constexpr double kPressureTolerance = 0.05;
+constexpr double kPressureTolerance = 0.10;
 constexpr double kKineticTolerance = 1e-3;
 constexpr double kDensityTolerance = 0.01;
 constexpr double kBalanceTolerance = 1e-3;
@@ -46,6 +51,12 @@ constexpr int kSamples = 200;
 class HydrostaticColumn final : public TransientProblem {
  public:
   explicit HydrostaticColumn(const Params& p) : p_(p) {
+    for (const char* key : {"width", "height"})
+      if (!(p.number(key) >= 1e-3))
+        throw InputError(fmt::format("hydrostatic-column: {} = {} m is below 1 mm (the Tait "
+                                     "water's sound crossing of a particle spacing would need "
+                                     "more steps than a run may take); give e.g. {}",
+                                     key, p.number(key), key == std::string("width") ? 0.1 : 0.2));
     if (!(p.number("average_crossings") <= p.number("crossings")))
       throw InputError(fmt::format("hydrostatic-column: average_crossings = {} must not exceed "
                                    "crossings = {} (the average is over the run's last "
