@@ -153,6 +153,7 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     std::unique_ptr<fluid::Watch> watch;
     double next_history = 0, next_sample = 0, max_deviation = 0;
     std::vector<double> T, Z, H;
+    Eigen::Vector2d blow_up_at{NAN, NAN};  ///< over a
   };
   auto track = std::make_shared<Track>();
   track->watch = std::make_unique<fluid::Watch>(mass, water.g, pe0, limits);
@@ -169,7 +170,16 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     return std::vector<double>{sim.time() * scale, fluid::surge_front(x, dx) / A,
                                fluid::column_height(x, dx) / A};
   };
-  def.unstable = [=](const ExplicitDynamics& sim) { return track->watch->check(sim); };
+  def.unstable = [=](const ExplicitDynamics& sim) {
+    std::string why = track->watch->check(sim);
+    if (!why.empty() && !std::isfinite(track->blow_up_at[0])) {
+      // Where it went: the fastest particle's current position.
+      Eigen::Index fastest = 0;
+      sim.particle_velocity().colwise().norm().maxCoeff(&fastest);
+      track->blow_up_at = sim.particle_positions().col(fastest) / A;
+    }
+    return why;
+  };
   def.stop = [=](const ExplicitDynamics& sim) {
     if (sim.time() + 1e-9 * history_every >= track->next_history) {
       if (track->T.empty()) {
@@ -203,6 +213,8 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     const fluid::ExperimentSeries height = fluid::martin_moyce_height();
     m.headline["unstable"] = out.unstable ? 1.0 : 0.0;
     m.headline["unstable at (T)"] = out.unstable ? out.unstable_time * scale : NAN;
+    m.headline["blow-up particle x/a"] = track->blow_up_at[0];
+    m.headline["blow-up particle y/a"] = track->blow_up_at[1];
     const double T_reached = track->T.empty() ? 0.0 : track->T.back();
     m.headline["T reached"] = T_reached;
     const fluid::SeriesError ef = fluid::series_error(track->T, track->Z, front);
