@@ -121,9 +121,9 @@ CaseSpec fluid_case(const std::string& problem, const std::string& method,
 
 TEST(HydrostaticColumn, ShortSphRunHoldsThePressure) {
   // 10 × 20 particles (Δx = 10 mm), 6 sound crossings, the pressure averaged over the last 3:
-  // SPH's time-averaged error is 0.095 here (the boundary rows' one-sided supports and the
-  // ripple of the walls taking up the load; 0.18 at 20 × 40 over 20 crossings, where the
-  // ripple has grown); 0.15 fails a column that slumps or rings beyond that.
+  // SPH's time-averaged error is 0.095 here (the boundary rows' one-sided supports and a
+  // motion that grows over the run: 0.18 at 20 × 40 over 20 crossings); 0.15 fails a column
+  // that slumps or rings beyond that.
   const CaseResult r = run_case(
       test_catalogue(),
       fluid_case("hydrostatic-column", "sph",
