@@ -6,6 +6,7 @@
 /// T = n t √(g/a) = t √(2g/a) (front) and τ = t √(g/a) (height).
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
