@@ -19,6 +19,8 @@ void register_rings(ProblemRegistry&);
 void register_funnel(ProblemRegistry&);
 void register_plate(ProblemRegistry&);
 void register_notched_beam(ProblemRegistry&);
+void register_hydrostatic_column(ProblemRegistry&);
+void register_dam_break(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -37,6 +39,8 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_funnel(r);
   register_plate(r);
   register_notched_beam(r);
+  register_hydrostatic_column(r);
+  register_dam_break(r);
 }
 
 }  // namespace mfv

@@ -33,7 +33,7 @@ PERTURB_EDGES = ["0", "-0.1", "0.5", "0.49", "nan", "inf", "1e300", "abc", ""]
 # Small first resolutions per problem keep a case to seconds.
 NODES = {"cantilever": 3, "elastic-patch": 5, "rod-pulse": 25, "stretch-map": 5, "dispersion": 5,
          "time-step": 11, "enriched-bar": 5, "rubber-ring": 120, "steel-ring": 150,
-         "notched-beam": 10}
+         "notched-beam": 10, "hydrostatic-column": 4, "dam-break": 4}
 
 
 def parse_list(mfv):

@@ -1,0 +1,194 @@
+// The hydrostatic column and the dam break (issue 16): their measures on synthetic fields and
+// particle sets with known answers, Martin & Moyce's tables, a short run of each, and the
+// refusal of bad parameters.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "analyses/case.hpp"
+#include "problems/fluid.hpp"
+#include "problems/fluid_measures.hpp"
+#include "test_support.hpp"
+#include "verify/runner.hpp"
+
+namespace mfv {
+namespace {
+
+TEST(FluidMeasures, HydrostaticPressureErrorOfAKnownField) {
+  // A 5 × 10 lattice under a surface at H = 1: the exact field has no error, a field 10 %
+  // high has 0.1, and one shifted by 10 % of ρ0 g H at every point has 0.1 ‖1‖ / ‖H − y‖.
+  const double rho0 = 1000, g = 9.81, H = 1;
+  Eigen::MatrixXd x(2, 50);
+  Eigen::VectorXd exact(50);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 10; ++j) {
+      x.col(10 * i + j) << 0.1 * i, 0.05 + 0.1 * j;
+      exact[10 * i + j] = rho0 * g * (H - x(1, 10 * i + j));
+    }
+  EXPECT_NEAR(fluid::hydrostatic_pressure_error(x, exact, rho0, g, H), 0, 1e-15);
+  EXPECT_NEAR(fluid::hydrostatic_pressure_error(x, 1.1 * exact, rho0, g, H), 0.1, 1e-12);
+  const Eigen::VectorXd shifted = exact.array() + 0.1 * rho0 * g * H;
+  EXPECT_NEAR(fluid::hydrostatic_pressure_error(x, shifted, rho0, g, H),
+              0.1 * rho0 * g * H * std::sqrt(50.0) / exact.norm(), 1e-12);
+  // Above the surface the exact pressure is 0, not negative.
+  Eigen::MatrixXd above(2, 1);
+  above << 0, 2;
+  EXPECT_TRUE(std::isnan(
+      fluid::hydrostatic_pressure_error(above, Eigen::VectorXd::Zero(1), rho0, g, H)));
+  // p = −(σxx + σyy)/2 of −p I.
+  Eigen::MatrixXd sigma(4, 1);
+  sigma << -3, 0, 0, -3;
+  EXPECT_DOUBLE_EQ(fluid::pressure_of(sigma)[0], 3);
+}
+
+TEST(FluidMeasures, SurgeFrontAndColumnHeightOfAKnownParticleSet) {
+  // A floor row to x = 0.30 (y = Δx/2), a droplet ahead of it in the air at y = 2Δx (not
+  // touching the floor), a column at the left wall up to y = 0.42.
+  const double dx = 0.01;
+  Eigen::MatrixXd x(2, 5);
+  x << 0.005, 0.15, 0.30, 0.50, 0.005,  //
+      0.005, 0.005, 0.006, 0.02, 0.42;
+  EXPECT_NEAR(fluid::surge_front(x, dx), 0.30 + 0.5 * dx, 1e-15);
+  EXPECT_NEAR(fluid::column_height(x, dx), 0.42 + 0.5 * dx, 1e-15);
+  Eigen::MatrixXd airborne(2, 1);
+  airborne << 0.5, 0.5;
+  EXPECT_TRUE(std::isnan(fluid::surge_front(airborne, dx)));
+  EXPECT_TRUE(std::isnan(fluid::column_height(airborne, dx)));
+}
+
+TEST(FluidMeasures, MartinMoyceTablesAreMonotoneOverTheirRange) {
+  const fluid::ExperimentSeries z = fluid::martin_moyce_front();
+  const fluid::ExperimentSeries h = fluid::martin_moyce_height();
+  ASSERT_EQ(z.T.size(), 15u);
+  ASSERT_EQ(z.value.size(), z.T.size());
+  ASSERT_EQ(h.value.size(), h.T.size());
+  EXPECT_DOUBLE_EQ(z.T.front(), 0.41);
+  EXPECT_DOUBLE_EQ(z.T.back(), 3.33);
+  for (std::size_t k = 1; k < z.T.size(); ++k) {
+    EXPECT_GT(z.T[k], z.T[k - 1]) << k;
+    EXPECT_GT(z.value[k], z.value[k - 1]) << k;
+    // Martin & Moyce timed the front at marks 1/4 in apart: Z/a steps of 1/9 or 2/9.
+    const double steps = (z.value[k] - z.value[k - 1]) * 9;
+    EXPECT_NEAR(steps, std::round(steps), 0.1) << k;
+  }
+  // The front starts at the column's width and never outruns Ritter's dZ/dT = 2.
+  EXPECT_GT(z.value.front(), 1.0);
+  for (std::size_t k = 1; k < z.T.size(); ++k)
+    EXPECT_LT((z.value[k] - z.value[k - 1]) / (z.T[k] - z.T[k - 1]), 2.0) << k;
+  // Heights fall from below 2a, within the front's time range.
+  EXPECT_LT(h.value.front(), 2.0);
+  EXPECT_LE(h.T.back(), z.T.back());
+  for (std::size_t k = 1; k < h.T.size(); ++k) {
+    EXPECT_GT(h.T[k], h.T[k - 1]) << k;
+    EXPECT_LT(h.value[k], h.value[k - 1]) << k;
+  }
+}
+
+TEST(FluidMeasures, SeriesErrorInterpolatesInTimeAndTheShiftIsFound) {
+  // A run that leads the experiment by 0.2 in T, v(T) = Z_exp(T + 0.2): unshifted, the lead
+  // is the error; the best shift finds 0.2 back.
+  const fluid::ExperimentSeries e = fluid::martin_moyce_front();
+  std::vector<double> t, v;
+  for (int k = 0; k <= 400; ++k) {
+    const double T = 4.0 * k / 400;
+    t.push_back(T);
+    // The experiment's front linearly interpolated, 0.2 earlier.
+    v.push_back(std::isnan(fluid::interpolate(e.T, e.value, T + 0.2))
+                    ? (T + 0.2 < e.T.front() ? 1.0 : e.value.back())
+                    : fluid::interpolate(e.T, e.value, T + 0.2));
+  }
+  const fluid::SeriesError none = fluid::series_error(t, v, e);
+  EXPECT_EQ(none.points, 15);
+  EXPECT_GT(none.rms, 0.1);
+  EXPECT_NEAR(fluid::best_shift(t, v, e, 1.0), 0.2, 0.01);
+  EXPECT_LT(fluid::series_error(t, v, e, 0.2).rms, 0.02);
+  // A history that ends early compares only the points it reached.
+  const std::vector<double> t2(t.begin(), t.begin() + 101), v2(v.begin(), v.begin() + 101);
+  EXPECT_EQ(fluid::series_error(t2, v2, e).points, 2);  // T ≤ 1.0: 0.41 and 0.84
+}
+
+CaseSpec fluid_case(const std::string& problem, const std::string& method,
+                    const std::string& params, int nodes) {
+  CaseSpec s;
+  s.problem = problem;
+  s.method = method;
+  s.nodes = nodes;
+  s.problem_params = Params::parse(params);
+  return s;
+}
+
+TEST(HydrostaticColumn, ShortSphRunHoldsThePressure) {
+  // 10 × 20 particles (Δx = 10 mm), 6 sound crossings, the pressure averaged over the last 3:
+  // SPH's time-averaged error is 0.095 here (the boundary rows' one-sided supports and a
+  // motion that grows over the run: 0.18 at 20 × 40 over 20 crossings); 0.15 fails a column
+  // that slumps or rings beyond that.
+  const CaseResult r = run_case(
+      test_catalogue(),
+      fluid_case("hydrostatic-column", "sph",
+                 "frame=eulerian,frames=1,threads=1,crossings=6,average_crossings=3", 10));
+  const TransientData& t = r.data<TransientData>();
+  EXPECT_FALSE(t.instability.has_value()) << t.verdict();
+  EXPECT_FALSE(t.stopped_early);
+  EXPECT_LT(r.headline.at("pressure error (time-averaged)"), 0.15);
+  EXPECT_LT(r.headline.at("peak kinetic energy / MgH"), 1e-3);
+  EXPECT_LT(r.headline.at("max density deviation"), 0.01);
+  EXPECT_NEAR(r.headline.at("sound crossings"), 6, 1e-6);
+  for (const auto& f : t.frames)
+    for (const auto& [name, field] : f.data) EXPECT_TRUE(field.allFinite()) << name;
+}
+
+TEST(DamBreak, ShortSphRunFrontMovesForwardBelowRittersSpeed) {
+  // 8 × 16 particles to T = 1.2: the front has left the column (Z > a) and never ran faster
+  // than the shallow-water dam-break front 2 √(g · 2a) (Ritter 1892).
+  const CaseResult r = run_case(
+      test_catalogue(),
+      fluid_case("dam-break", "sph", "frame=eulerian,frames=1,threads=1,end_T=1.2", 8));
+  const TransientData& t = r.data<TransientData>();
+  EXPECT_FALSE(t.instability.has_value()) << t.verdict();
+  EXPECT_NEAR(r.headline.at("T reached"), 1.2, 1e-3);
+  EXPECT_GT(r.headline.at("front at end (Z/a)"), 1.1);
+  const double speed = r.headline.at("front speed / Ritter bound");
+  EXPECT_GT(speed, 0.0);
+  EXPECT_LT(speed, 1.0);
+  EXPECT_EQ(r.headline.at("front points compared"), 3);  // T = 0.41, 0.84, 1.19
+  for (const auto& f : t.frames)
+    for (const auto& [name, field] : f.data) EXPECT_TRUE(field.allFinite()) << name;
+  ASSERT_GE(t.profiles.size(), 2u);
+  EXPECT_GT(t.profiles.front().x.front().size(), 100u);
+}
+
+TEST(FluidProblems, BadParametersAreInputErrors) {
+  const char* bad_values[] = {"0", "-1", "nan", "1e300"};
+  for (const auto& [problem, keys] :
+       std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"hydrostatic-column", {"width", "height", "crossings", "average_crossings"}},
+           {"dam-break", {"width", "tank", "end_T"}}})
+    for (const std::string& key : keys)
+      for (const char* v : bad_values) {
+        const std::string params = key + "=" + v + ",frames=0";
+        EXPECT_THROW(run_case(test_catalogue(), fluid_case(problem, "sph", params, 10)),
+                     InputError)
+            << problem << " " << params;
+      }
+  // The other ends: an average longer than the run, a tank shorter than the collapse, too few
+  // and too many particles.
+  EXPECT_THROW(run_case(test_catalogue(), fluid_case("hydrostatic-column", "sph",
+                                                     "crossings=2,average_crossings=3", 10)),
+               InputError);
+  EXPECT_THROW(run_case(test_catalogue(), fluid_case("dam-break", "sph", "tank=1.5", 10)),
+               InputError);
+  for (const char* problem : {"hydrostatic-column", "dam-break"})
+    EXPECT_THROW(run_case(test_catalogue(), fluid_case(problem, "sph", "width=1e-6", 10)),
+                 InputError);
+  for (const char* problem : {"hydrostatic-column", "dam-break"}) {
+    EXPECT_THROW(run_case(test_catalogue(), fluid_case(problem, "sph", "frames=0", 3)),
+                 InputError);
+    EXPECT_THROW(run_case(test_catalogue(), fluid_case(problem, "sph", "frames=0", 100000)),
+                 InputError);
+  }
+}
+
+}  // namespace
+}  // namespace mfv
