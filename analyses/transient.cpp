@@ -34,6 +34,10 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
       ParamSpec::number("dt", 0.0, "time step; 0: safety times the critical step"),
       ParamSpec::number("av_alpha", 0.0, "artificial viscosity, linear (Monaghan alpha)"),
       ParamSpec::number("av_beta", 0.0, "artificial viscosity, quadratic (Monaghan beta)"),
+      ParamSpec::choice("force", "test", {"test", "variational"},
+                        "internal force from the method's test functions (as published) or "
+                        "the transpose of its trial gradient, which makes the internal power "
+                        "the rate of stored energy (Bonet & Lok 1999; dynamics/explicit.hpp)"),
       ParamSpec::count("threads", 0, 0, "OpenMP threads for the force loops (0: all cores)"),
       ParamSpec::count("frames", 12, 0, "VTK snapshots per run (0: none)"),
       ParamSpec::count("samples", 200, 2, "rows of the time histories per run"),
@@ -57,6 +61,7 @@ DynamicsOptions dynamics_options(const Params& p) {
   if (o.viscosity.alpha < 0 || o.viscosity.beta < 0)
     throw InputError(fmt::format("artificial viscosity alpha = {}, beta = {}: both must be >= 0",
                                  o.viscosity.alpha, o.viscosity.beta));
+  o.force = force_form_from(p.text("force"));
   o.threads = p.integer("threads");
   return o;
 }

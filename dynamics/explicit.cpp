@@ -179,6 +179,14 @@ KernelFrame kernel_frame_from(const std::string& name) {
   throw InputError(fmt::format("unknown kernel frame '{}'; valid: lagrangian, eulerian", name));
 }
 
+ForceForm force_form_from(const std::string& name) {
+  if (name == "test") return ForceForm::test_functions;
+  if (name == "variational") return ForceForm::variational;
+  throw InputError(fmt::format("unknown internal force form '{}'; valid: test (the method's test "
+                               "functions), variational (the transpose of the trial gradient)",
+                               name));
+}
+
 TimeIntegrator time_integrator_from(const std::string& name) {
   if (name == "verlet") return TimeIntegrator::verlet;
   if (name == "newmark") return TimeIntegrator::newmark;
@@ -267,9 +275,10 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
 }
 
 void ExplicitDynamics::build_force_tables() {
-  const ShapeTable& t = d_.test_q;
+  const ShapeTable& t = opt_.force == ForceForm::variational ? d_.trial_q : d_.test_q;
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
-    throw std::logic_error("explicit dynamics needs first derivatives of the test functions");
+    throw std::logic_error("explicit dynamics needs first derivatives of the functions the "
+                           "internal force sums");
   // A counting sort of the entries by particle, the points split into one contiguous chunk
   // per thread: thread k's entries of particle I go after those of threads < k, so every
   // particle lists its points in ascending order, as the serial sort does.
@@ -724,7 +733,7 @@ std::string ExplicitDynamics::description() const {
                                        opt_.viscosity.alpha, opt_.viscosity.beta, spacing_)
                          : "no artificial viscosity";
   return fmt::format(
-      "{} kernel{}, {}, {}, {}, {} thread{}",
+      "{} kernel{}, {}, {}, {}{}, {} thread{}",
       opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
       opt_.frame == KernelFrame::eulerian
           ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx)", opt_.update_every,
@@ -733,7 +742,11 @@ std::string ExplicitDynamics::description() const {
       opt_.integrator == TimeIntegrator::verlet
           ? "central differences (velocity Verlet)"
           : fmt::format("explicit Newmark predictor-corrector gamma={:g}", opt_.newmark_gamma),
-      model_.material->description(dim_), visc, opt_.threads, opt_.threads > 1 ? "s" : "");
+      model_.material->description(dim_), visc,
+      opt_.force == ForceForm::variational
+          ? ", variational internal force (transpose of the trial gradient)"
+          : "",
+      opt_.threads, opt_.threads > 1 ? "s" : "");
 }
 
 }  // namespace mfv

@@ -28,6 +28,22 @@ enum class TimeIntegrator {
   newmark  ///< explicit Newmark predictor–corrector (β = 0, γ ≥ ½), 004 III §4
 };
 
+/// Which gradients the internal force sums. The method's own test functions (001: KBM's
+/// Shepard functions, RLM's eq 34 rows, the Galerkin methods' trial functions) make a
+/// Petrov–Galerkin force whose power Σ_I f_I·v_I differs from the rate of stored energy
+/// Σ_q w_q σ_q : L_q wherever the test and trial gradients differ (free surfaces, irregular
+/// particles). The variational force is the transpose of the trial gradient operator,
+///   f_I = Σ_q w_q σ_q · ∇N_I(x_q)    (the same ∇N_J(x_q) that gives F_q and L_q),
+/// so Σ_I f_I·v_I = Σ_q w_q σ_q : L_q exactly: the internal forces can create no energy
+/// (Bonet & Lok 1999, CMAME 180: 97–115, the variational form of corrected SPH). It conserves
+/// linear momentum whenever the gradients of a constant vanish (every corrected method).
+/// Methods whose test functions are their trial functions (sph, the EFG/RKPM Galerkin
+/// methods) are unchanged by it.
+enum class ForceForm {
+  test_functions,  ///< f_I = Σ_q w_q σ_q · ∇N^test_I(x_q): the method as published (default)
+  variational      ///< f_I = Σ_q w_q σ_q · ∇N_I(x_q), the trial gradients (Bonet & Lok 1999)
+};
+
 /// Monaghan-type artificial viscosity, written at the integration points so that it acts in
 /// every method: a pressure q = ρ (β (l ∇·v)² − α c l ∇·v) in compression (∇·v < 0), l the
 /// particle spacing, c the wave speed (Monaghan's Π_IJ with μ_IJ → l ∇·v).
@@ -48,6 +64,7 @@ struct DynamicsOptions {
   TimeIntegrator integrator = TimeIntegrator::verlet;
   double newmark_gamma = 0.5;
   ArtificialViscosity viscosity;
+  ForceForm force = ForceForm::test_functions;
   int threads = 0;  ///< OpenMP threads for the force loops; 0: the OpenMP default
 };
 
@@ -238,5 +255,7 @@ class ExplicitDynamics {
 /// names otherwise.
 KernelFrame kernel_frame_from(const std::string& name);
 TimeIntegrator time_integrator_from(const std::string& name);
+/// Parses "test"/"variational" (ForceForm), throwing InputError with the valid names otherwise.
+ForceForm force_form_from(const std::string& name);
 
 }  // namespace mfv
