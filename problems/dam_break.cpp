@@ -83,14 +83,8 @@ class DamBreak final : public TransientProblem {
   }
 
   Params analysis_defaults(const std::string& analysis) const override {
-    Params p;
-    if (analysis != "transient") return p;
-    // Monaghan's α = 0.1 (as the hydrostatic column; Monaghan 1994, J. Comput. Phys. 110,
-    // 399–406, for free-surface water).
-    p.set("av_alpha", 0.1);
-    p.set("safety", 0.5);
-    p.set("frames", 12);
-    return p;
+    if (analysis != "transient") return {};
+    return fluid::transient_defaults(12);
   }
 
   ParticleSet particles(int nodes, double perturbation) const override {

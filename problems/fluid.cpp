@@ -109,6 +109,15 @@ double stored_energy(const Eigen::VectorXd& volume, const Eigen::VectorXd& press
   return volume.dot(pressure.cwiseProduct(pressure)) / (2 * water.rho0 * c0 * c0);
 }
 
+Params transient_defaults(int frames) {
+  Params p;
+  p.set("av_alpha", 0.1);
+  p.set("av_beta", 0.0);
+  p.set("safety", 0.5);
+  p.set("frames", frames);
+  return p;
+}
+
 double potential_energy(const Eigen::MatrixXd& x, const Eigen::VectorXd& mass, double g) {
   return g * x.row(1).dot(mass);
 }

@@ -90,22 +90,12 @@ class Funnel final : public TransientProblem {
   }
 
   Params analysis_defaults(const std::string& analysis) const override {
-    Params p;
-    if (analysis != "transient") return p;
-    // Monaghan's linear artificial viscosity α = 0.1 (β = 0), the usual value for weakly
-    // compressible water (Monaghan 1994); it damps the acoustic start-up of the gate's removal.
-    p.set("av_alpha", 0.1);
-    p.set("av_beta", 0.0);
-    // The critical step is the power iteration's at t = 0 (water at rest). It moves little:
-    // free-surface speeds stay below ~8 m/s ≪ c0 = 57 m/s (advection adds ≤ 14 % to c0), the
-    // density stays within a few % of ρ0 (c ∝ ρ³ for γ = 7: ≤ 10 %), the walls' frequency
-    // c0/Δx is below the fluid's; 0.5 leaves room for all three at once.
-    p.set("safety", 0.5);
+    if (analysis != "transient") return {};
+    Params p = fluid::transient_defaults(12);
     // Recomputing the Eulerian tables every second step keeps the nightly kbm-si run near
     // 35 s on one core (every step: about 55 s; measured at 5 mm, 1980 particles); particles
     // move at most v dt ≈ 8 m/s × 7e-5 s = 0.1 Δx between two recomputations.
     p.set("update_every", 2);
-    p.set("frames", 12);
     return p;
   }
 

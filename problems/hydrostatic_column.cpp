@@ -78,15 +78,8 @@ class HydrostaticColumn final : public TransientProblem {
   }
 
   Params analysis_defaults(const std::string& analysis) const override {
-    Params p;
-    if (analysis != "transient") return p;
-    // Monaghan's linear artificial viscosity α = 0.1 (Monaghan 1994, J. Comput. Phys. 110,
-    // 399–406, uses 0.01–0.1 for free-surface water): it damps the acoustic ripple of the
-    // settling; β = 0 (no shocks at rest).
-    p.set("av_alpha", 0.1);
-    p.set("safety", 0.5);
-    p.set("frames", 4);
-    return p;
+    if (analysis != "transient") return {};
+    return fluid::transient_defaults(4);
   }
 
   ParticleSet particles(int nodes, double perturbation) const override {
