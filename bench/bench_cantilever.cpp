@@ -17,6 +17,7 @@
 
 #include "problems/problem.hpp"
 #include "apps/catalogue.hpp"
+#include "bench/bench_catalogue.hpp"
 #include "analyses/static_solve.hpp"
 #include "verify/runner.hpp"
 
@@ -25,10 +26,7 @@ namespace {
 using namespace mfv;
 
 /// One catalogue for the whole program (registries hold references into it).
-const Catalogue& catalogue() {
-  static const Catalogue c;
-  return c;
-}
+using bench::catalogue;
 
 // Catalogue names, default parameters: the methods as the cantilever study runs them.
 const char* const kMethods[] = {"fem", "efg-ci", "efg-ni", "kbm-si", "kbm-ni", "rlm", "sph"};

@@ -55,15 +55,13 @@
 #include "dynamics/explicit.hpp"
 #include "methods/particles.hpp"
 #include "apps/catalogue.hpp"
+#include "bench/bench_catalogue.hpp"
 
 namespace {
 
 using namespace mfv;
 
-const Catalogue& catalogue() {
-  static const Catalogue c;
-  return c;
-}
+using bench::catalogue;
 
 // 001 §9.2 in mm / ms / kg / GPa.
 constexpr double kLength = 60, kDepth = 5, kYoung = 210, kPoisson = 0, kDensity = 7.8e-6;

@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "apps/catalogue.hpp"
+#include "bench/bench_catalogue.hpp"
 #include "dynamics/explicit.hpp"
 #include "methods/particles.hpp"
 #include "problems/fluid.hpp"
@@ -32,10 +33,7 @@ using namespace mfv;
 constexpr double kColumn = 0.1;  ///< a (m)
 constexpr int kFluidSteps = 200;
 
-const Catalogue& fluid_catalogue() {
-  static const Catalogue c;
-  return c;
-}
+using bench::catalogue;
 
 void dam_break_case(benchmark::State& state, const std::string& method, double dx, int threads,
                     int every) {
@@ -49,9 +47,9 @@ void dam_break_case(benchmark::State& state, const std::string& method, double d
   setup.surface = 2 * a;
   setup.walls = {{{0, 0}, {4 * a, 0}}, {{0, 0}, {0, 4 * a}}, {{4 * a, 0}, {4 * a, 4 * a}}};
   try {
-    m = fluid_catalogue().methods.create(method);
+    m = catalogue().methods.create(method);
     Discretization d = m->discretize(column, p, 1);
-    DynamicsModel model = fluid::water_model(d, fluid_catalogue().materials, setup);
+    DynamicsModel model = fluid::water_model(d, catalogue().materials, setup);
     DynamicsOptions opt;
     opt.frame = KernelFrame::eulerian;
     opt.update_every = every;

@@ -18,6 +18,7 @@
 
 #include "problems/problem.hpp"
 #include "apps/catalogue.hpp"
+#include "bench/bench_catalogue.hpp"
 #include "analyses/static_solve.hpp"
 #include "verify/runner.hpp"
 
@@ -26,10 +27,7 @@ namespace {
 using namespace mfv;
 
 /// One catalogue for the whole program (registries hold references into it).
-const Catalogue& catalogue() {
-  static const Catalogue c;
-  return c;
-}
+using bench::catalogue;
 
 struct MethodCase {
   const char* label;   ///< benchmark name suffix

@@ -145,7 +145,7 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
 
   struct Track {
     std::unique_ptr<fluid::Watch> watch;
-    double next_history = 0, next_sample = 0, max_deviation = 0;
+    double next_history = 0, next_sample = 0;
     std::vector<double> T, Z, H;
     Eigen::Vector2d blow_up_at{NAN, NAN};  ///< over a
   };
@@ -188,11 +188,6 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     if (sim.time() + 1e-9 * sample_every >= track->next_sample) {
       track->next_sample += sample_every;
       track->watch->sample(sim);
-      const auto& s = track->watch->samples().back();
-      if (std::isfinite(s.density_max))
-        track->max_deviation =
-            std::max({track->max_deviation, std::abs(s.density_max / water.rho0 - 1),
-                      std::abs(s.density_min / water.rho0 - 1)});
     }
     return false;
   };
@@ -239,7 +234,7 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
         fastest = std::max(fastest, (track->Z[k] - track->Z[j]) / (track->T[k] - track->T[j]));
     }
     m.headline["front speed / Ritter bound"] = fastest * A * scale / ritter;
-    m.headline["max density deviation"] = track->max_deviation;
+    m.headline["max density deviation"] = track->watch->max_density_deviation(water.rho0);
     m.headline["energy balance / released"] = track->watch->worst_energy_error();
     m.headline["min neighbours"] = sim.min_neighbours();
     m.headline["degenerate points (peak)"] = sim.counters().degenerate_peak;

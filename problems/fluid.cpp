@@ -190,4 +190,12 @@ double Watch::worst_energy_error() const {
   return released_ > 0 ? worst / released_ : std::numeric_limits<double>::quiet_NaN();
 }
 
+double Watch::max_density_deviation(double rho0) const {
+  double worst = 0;
+  for (const Sample& s : samples_)
+    for (double rho : {s.density_min, s.density_max})
+      if (std::isfinite(rho)) worst = std::max(worst, std::abs(rho / rho0 - 1));
+  return worst;
+}
+
 }  // namespace mfv::fluid

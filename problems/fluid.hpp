@@ -129,6 +129,9 @@ class Watch {
   /// The largest |energy balance| over the released potential energy at any sample (NaN when
   /// nothing was released).
   double worst_energy_error() const;
+  /// The largest |ρ/ρ0 − 1| of the samples' density ranges (non-finite values skipped; 0
+  /// without samples or without the density slot).
+  double max_density_deviation(double rho0) const;
   double released_energy() const { return released_; }
 
  private:

@@ -356,7 +356,8 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
         total_mass * (band_low - fa_slow) / (t_band - t_a);
     m.headline["mean outflow band high (kg/s per m)"] =
         total_mass * (band_high - fa_fast) / (t_band - t_a);
-    m.headline["energy error"] = watch.worst_energy_error();
+    const double err = watch.worst_energy_error();
+    m.headline["energy error"] = err;
     double rho_min = INFINITY, rho_max = -INFINITY, v_max = 0;
     for (const auto& s : watch.samples()) {
       rho_min = std::min(rho_min, s.density_min);
@@ -378,7 +379,6 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
         out.cpu_loop > 0 ? n * static_cast<double>(out.steps) / out.cpu_loop : NAN;
     // Verdict parts (computed; the findings read them).
     const bool finite = !out.unstable && !out.stopped_early;
-    const double err = watch.worst_energy_error();
     const bool density_ok = rho_min >= (1 - kDensityBound) * rho0 &&
                             rho_max <= (1 + kDensityBound) * rho0;
     const bool drained_ok = finite && f_end >= band_low && f_end <= band_high;
