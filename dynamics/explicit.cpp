@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -130,41 +131,128 @@ struct PointKernel {
   }
 };
 
+/// The step's two loops in one pass over the points: per chunk of points, F and the stress
+/// from the trial table's rows, then the chunk's force terms scattered to the particles,
+///   f_J += Σ_j S_q,ij (w_q ∇N^test_J(x_q))_j,
+/// from the force table's rows while they are still in cache. Where the force table is the
+/// trial table (sph, the Galerkin methods) a step streams one table from memory instead of a
+/// table and its transpose. The sum for each particle runs over its points in ascending q,
+/// the order of a serial loop, on any thread count: each thread owns a contiguous range of
+/// points and adds directly to the particles whose first point (first_point) lies in its
+/// range, which no other thread then touches; its terms of particles that an earlier range
+/// reached first are deferred as (q, entry) pairs and added afterwards, thread by thread.
+/// So the forces do not depend on the thread count, bit for bit.
 template <int D>
-void compute_points(const PointKernel<D>& k, const Material& material, int nq, const double* u,
+void compute_forces(const PointKernel<D>& k, const Material& material, int nq, const double* u,
                     const double* du, const double* Fc, double* F, double* stress, double* state,
-                    int state_size, bool viscosity, int threads) {
+                    int state_size, bool viscosity, const ShapeTable& test, const double* w0,
+                    const int* first_point, std::vector<std::vector<std::pair<int, int>>>& deferred,
+                    double* f, int threads) {
   const int chunks = (nq + kChunk - 1) / kChunk;
-#pragma omp parallel for schedule(static) num_threads(threads) if (nq > kParallelMinimum)
-  for (int c = 0; c < chunks; ++c) {
-    const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
+  const int* toffsets = test.offsets.data();
+  const int* tindex = test.index.data();
+  const double* tgrad = test.grad.data();
+  const bool parallel = nq > kParallelMinimum && threads > 1;
+  if (static_cast<int>(deferred.size()) < threads) deferred.resize(threads);
+  int team_size = 1;  // the threads the runtime gave, which may be fewer than asked
+#pragma omp parallel num_threads(threads) if (parallel)
+  {
+    const int team = omp_get_num_threads(), me = omp_get_thread_num();
+    if (me == 0) team_size = team;
+    const int c0 = static_cast<int>(static_cast<long>(chunks) * me / team);
+    const int c1 = static_cast<int>(static_cast<long>(chunks) * (me + 1) / team);
+    const int first = c0 * kChunk;
+    std::vector<std::pair<int, int>>& later = deferred[me];
+    later.clear();
     double Lbuf[kChunk * D * D];
-    for (int q = q0; q < q1; ++q)
-      k.deformation(q, u, du, Fc, F + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
-    // k.dt is 0 in trial evaluations: a rate-dependent material then responds elastically.
-    material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
-                         state ? state + static_cast<long>(state_size) * q0 : nullptr, k.dt);
-    for (int q = q0; q < q1; ++q)
-      k.finish(F + D * D * q, stress + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
-  }
-}
-
-template <int D>
-void gather_forces(int n, const int* offsets, const int* point, const double* grad,
-                   const double* stress, double* f, int threads) {
-#pragma omp parallel for schedule(static) num_threads(threads) if (n > kParallelMinimum)
-  for (int I = 0; I < n; ++I) {
-    double fi[D] = {};
-    for (int e = offsets[I]; e < offsets[I + 1]; ++e) {
-      const double* S = stress + D * D * point[e];
-      const double* g = grad + D * e;
-      for (int j = 0; j < D; ++j)
-        for (int i = 0; i < D; ++i) fi[i] += S[i + D * j] * g[j];
+    for (int c = c0; c < c1; ++c) {
+      const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
+      for (int q = q0; q < q1; ++q)
+        k.deformation(q, u, du, Fc, F + D * D * q,
+                      viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+      // k.dt is 0 in trial evaluations: a rate-dependent material then responds elastically.
+      material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
+                           state ? state + static_cast<long>(state_size) * q0 : nullptr, k.dt);
+      for (int q = q0; q < q1; ++q) {
+        k.finish(F + D * D * q, stress + D * D * q,
+                 viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+        const double* S = stress + D * D * q;
+        for (int e = toffsets[q]; e < toffsets[q + 1]; ++e) {
+          const int J = tindex[e];
+          if (first_point[J] < first) {
+            later.emplace_back(q, e);
+            continue;
+          }
+          double* fj = f + D * J;
+          for (int j = 0; j < D; ++j) {
+            const double g = w0[q] * tgrad[D * e + j];
+            for (int i = 0; i < D; ++i) fj[i] += S[i + D * j] * g;
+          }
+        }
+      }
     }
-    for (int i = 0; i < D; ++i) f[D * I + i] = fi[i];
   }
+  for (int t = 1; t < team_size; ++t)
+    for (const auto& [q, e] : deferred[t]) {
+      const double* S = stress + D * D * q;
+      double* fj = f + D * tindex[e];
+      for (int j = 0; j < D; ++j) {
+        const double g = w0[q] * tgrad[D * e + j];
+        for (int i = 0; i < D; ++i) fj[i] += S[i + D * j] * g;
+      }
+    }
 }
 
+/// Solves N c = v for the nodal values c of each component, N_IJ = N_J(X_I) the table of
+/// trial values at the particles (row I = particle I), so that Σ_J N_J(X_I) c_J = v_I.
+/// The table is the matrix already (row-compressed), so it is mapped, not copied. BiCGSTAB
+/// with a diagonal (Jacobi) preconditioner first: N is close to its diagonal (a particle's
+/// own shape function dominates at its position), so it converges in a few tens of
+/// iterations, each one sparse product, O(N) in all, where an incomplete LU's factorization
+/// grows faster than N (66-123 s at 10^6 particles, bench/README.md). When Jacobi does not
+/// reach the tolerance (an irregular set whose N is far from diagonal), IncompleteLUT, the
+/// robust fallback; when neither does, SingularError with both causes.
+void fit_nodal_values(const ShapeTable& t, int n, int dim, const Eigen::MatrixXd& v,
+                      Eigen::VectorXd& out) {
+  using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+  const Eigen::Map<const RowMatrix> A(n, n, t.entries(), t.offsets.data(), t.index.data(),
+                                      t.value.data());
+  constexpr double kTolerance = 1e-12;  // relative residual |N c − v| / |v|
+  Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> jacobi;
+  jacobi.setTolerance(kTolerance);
+  // A bound on the work before the fallback: a well-conditioned N converges in far fewer.
+  jacobi.setMaxIterations(500);
+  jacobi.compute(A);
+  std::unique_ptr<Eigen::BiCGSTAB<RowMatrix, Eigen::IncompleteLUT<double>>> ilut;
+  Eigen::VectorXd rhs(n), x(n);
+  for (int c = 0; c < dim; ++c) {
+    rhs = v.row(c).transpose();
+    if (rhs.norm() == 0) {
+      for (int I = 0; I < n; ++I) out[dim * I + c] = 0;
+      continue;
+    }
+    x = jacobi.solve(rhs);
+    std::string cause;
+    if (jacobi.info() != Eigen::Success || !x.allFinite()) {
+      cause = fmt::format("Jacobi-preconditioned BiCGSTAB stopped after {} iterations at a "
+                          "relative residual of {:.3g}",
+                          jacobi.iterations(), jacobi.error());
+      if (!ilut) {
+        ilut = std::make_unique<Eigen::BiCGSTAB<RowMatrix, Eigen::IncompleteLUT<double>>>();
+        ilut->setTolerance(kTolerance);
+        ilut->compute(A);
+      }
+      x = ilut->solve(rhs);
+      if (ilut->info() != Eigen::Success || !x.allFinite())
+        throw SingularError(fmt::format(
+            "could not fit nodal velocities to the particle velocities (component {}): the "
+            "shape-function values at the particles are singular or ill-conditioned ({}; "
+            "with an incomplete-LU preconditioner, {} iterations at {:.3g})",
+            c, cause, ilut->iterations(), ilut->error()));
+    }
+    for (int I = 0; I < n; ++I) out[dim * I + c] = x[I];
+  }
+}
 }  // namespace
 
 Eigen::VectorXd lumped_masses(const ParticleSet& particles, double density, MassLumping lumping) {
@@ -252,7 +340,11 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   Xq_ = d_.quadrature.points;
   V0_ = d_.particles.volume;
   w0_ = d_.quadrature.weights;
-  if (!d_.particle_values) values_at_particles_ = d_.trial_at(X_, 0);
+  if (!d_.particle_values) {
+    // d_.trial_at(X_, 0) bit for bit (Approximation::evaluate_into), on the engine's threads.
+    NeighbourLists lists(0);
+    d_.trial->evaluate_into(d_.particles, X_, 0, lists, opt_.threads, values_at_particles_);
+  }
   if (opt_.frame == KernelFrame::eulerian) values_at_points0_ = d_.trial_q;
   const int dd = dim_ * dim_;
   F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
@@ -275,53 +367,19 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
 }
 
 void ExplicitDynamics::build_force_tables() {
-  const ShapeTable& t = opt_.force == ForceForm::variational ? d_.trial_q : d_.test_q;
+  const ShapeTable& t = force_table();
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
     throw std::logic_error("explicit dynamics needs first derivatives of the functions the "
                            "internal force sums");
-  // A counting sort of the entries by particle, the points split into one contiguous chunk
-  // per thread: thread k's entries of particle I go after those of threads < k, so every
-  // particle lists its points in ascending order, as the serial sort does.
-  const int threads = nq_ > kParallelMinimum ? opt_.threads : 1;
-  const std::size_t stride = static_cast<std::size_t>(n_) + 1;
-  tt_next_.assign(threads * stride, 0);
-  auto chunk = [&](int k, int& q0, int& q1) {
-    q0 = static_cast<int>(static_cast<long>(nq_) * k / threads);
-    q1 = static_cast<int>(static_cast<long>(nq_) * (k + 1) / threads);
-  };
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    int q0, q1;
-    chunk(omp_get_thread_num(), q0, q1);
-    int* count = tt_next_.data() + omp_get_thread_num() * stride;
-    for (int e = t.offsets[q0]; e < t.offsets[q1]; ++e) ++count[t.index[e]];
-  }
-  tt_offsets_.resize(n_ + 1);
-  int base = 0;
-  for (int I = 0; I < n_; ++I) {
-    tt_offsets_[I] = base;
-    for (int k = 0; k < threads; ++k) {
-      int& slot = tt_next_[k * stride + I];
-      const int c = slot;
-      slot = base;  // the count becomes thread k's first slot for particle I
-      base += c;
-    }
-  }
-  tt_offsets_[n_] = base;
-  tt_point_.resize(t.entries());
-  tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    int q0, q1;
-    chunk(omp_get_thread_num(), q0, q1);
-    int* next = tt_next_.data() + omp_get_thread_num() * stride;
-    for (int q = q0; q < q1; ++q)
-      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
-        const int slot = next[t.index[e]]++;
-        tt_point_[slot] = q;
-        for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0_[q] * t.grad[dim_ * e + c];
-      }
-  }
+  // The first point of each particle in the force table (nq_: none), which decides which
+  // thread of compute_forces adds its terms directly.
+  first_point_.assign(n_, nq_);
+  for (int q = nq_ - 1; q >= 0; --q)
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) first_point_[t.index[e]] = q;
+}
+
+const ShapeTable& ExplicitDynamics::force_table() const {
+  return opt_.force == ForceForm::variational ? d_.trial_q : d_.test_q;
 }
 
 void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,
@@ -356,11 +414,11 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
   PointKernel<D> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
                    opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
                    model_.density, dt};
-  compute_points<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
+  f.setZero();
+  compute_forces<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
                     stress_.data(), state, model_.material->state_size(dim_), viscosity,
+                    force_table(), w0_.data(), first_point_.data(), deferred_, f.data(),
                     opt_.threads);
-  gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
-                   f.data(), opt_.threads);
 }
 
 namespace {
@@ -473,26 +531,7 @@ void ExplicitDynamics::set_particle_velocity(const Eigen::MatrixXd& v) {
   if (d_.particle_values) {
     v_ = Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
   } else {
-    const ShapeTable& t = values_at_particles_;
-    std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(t.entries());
-    for (int I = 0; I < n_; ++I)
-      for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
-        trip.emplace_back(I, t.index[e], t.value[e]);
-    Eigen::SparseMatrix<double> A(n_, n_);
-    A.setFromTriplets(trip.begin(), trip.end());
-    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> solver;
-    solver.setTolerance(1e-12);
-    solver.compute(A);
-    for (int c = 0; c < dim_; ++c) {
-      const Eigen::VectorXd rhs = v.row(c).transpose();
-      if (rhs.norm() == 0) continue;
-      const Eigen::VectorXd x = solver.solve(rhs);
-      if (solver.info() != Eigen::Success || !x.allFinite())
-        throw SingularError("could not fit nodal velocities to the particle velocities (the "
-                            "shape-function values at the particles are singular)");
-      for (int I = 0; I < n_; ++I) v_[dim_ * I + c] = x[I];
-    }
+    fit_nodal_values(values_at_particles_, n_, dim_, v, v_);
   }
   apply_prescribed(t_, v_, a_);
   energy_.kinetic = kinetic_energy();

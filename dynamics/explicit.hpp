@@ -8,6 +8,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -206,6 +207,8 @@ class ExplicitDynamics {
 
  private:
   void build_force_tables();
+  /// The table whose gradients the internal force sums (the test table, or the trial one).
+  const ShapeTable& force_table() const;
   /// f_int at displacement u (Lagrangian) or after the increment du from the committed
   /// state (Eulerian); dt > 0 turns on the viscosity (velocity du/dt). `commit` stores F and
   /// the material history; otherwise they are left as they were (trial evaluations).
@@ -237,10 +240,10 @@ class ExplicitDynamics {
   /// Eulerian kernel: the trial values at the integration points at t = 0, N_J(X_q), which
   /// carry a point that is not a particle with the material: x_q = X_q + Σ_J N_J(X_q) u_J.
   ShapeTable values_at_points0_;
-  // Transposed test table with the reference weights folded in: for particle I the entries
-  // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
-  std::vector<int> tt_offsets_, tt_point_, tt_next_;
-  std::vector<double> tt_grad_;
+  /// The first point of each particle's force-table entries (nq: none), and the force
+  /// terms a thread leaves to be added after the parallel loop (compute_forces).
+  std::vector<int> first_point_;
+  mutable std::vector<std::vector<std::pair<int, int>>> deferred_;
   /// Eulerian kernel: neighbour lists and table storage kept between recomputations.
   Retabulation retabulation_;
   // Per integration point: F (Eulerian: integrated in time), the stress the force sums
