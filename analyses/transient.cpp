@@ -39,6 +39,12 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "the transpose of its trial gradient, which makes the internal power "
                         "the rate of stored energy (Bonet & Lok 1999; dynamics/explicit.hpp)"),
       ParamSpec::count("threads", 0, 0, "OpenMP threads for the force loops (0: all cores)"),
+      ParamSpec::choice("reorder", "none", {"none", "hilbert"},
+                        "particles and points renumbered along the Hilbert curve inside the "
+                        "engine (Lagrangian kernel only), so that the force loops read nearby "
+                        "memory at 10^5-10^6 particles or for unordered sets; the problem and "
+                        "the report keep the particle numbering. Default none: sums over "
+                        "particles keep their order and the suite's numbers stay bit for bit"),
       ParamSpec::count("frames", 12, 0, "VTK snapshots per run (0: none)"),
       ParamSpec::count("samples", 200, 2, "rows of the time histories per run"),
   };
@@ -63,6 +69,7 @@ DynamicsOptions dynamics_options(const Params& p) {
                                  o.viscosity.alpha, o.viscosity.beta));
   o.force = force_form_from(p.text("force"));
   o.threads = p.integer("threads");
+  o.order = particle_order_from(p.text("reorder"));
   return o;
 }
 

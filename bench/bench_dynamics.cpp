@@ -2,9 +2,12 @@
 /// §9.2: 60 × 5 mm, St Venant–Kirchhoff E = 210 GPa, ν = 0, ρ = 7.8e-6 (mm, ms, kg, GPa: the
 /// bar wave speed is c ≈ 5189 mm/ms), the Gaussian initial velocity v_x = exp(−0.025(x−30)²),
 /// Lagrangian kernel (tables built once), central differences at dt = 0.8 dt_crit.
-///   BM_Dynamics/<m>/N:<particles>/omp:<threads>
+///   BM_Dynamics/<m>/N:<particles>/omp:<threads>/reorder:<0|1>
 ///       ExplicitDynamics::step only, kSteps steps per iteration; discretization, engine
 ///       construction, velocity fit and time-step estimate happen before the timed loop.
+///       reorder:1 (sph, kbm-si, efg-ni) is ParticleOrder::hilbert (the transient analysis's
+///       reorder=hilbert: the engine renumbers particles and points along the Hilbert curve);
+///       reorder:0 the lattice order.
 ///   BM_DynamicsOrder/sph/N:<particles>/omp:<threads>/order:1
 ///       the largest SPH case with the particles randomly permuted before discretize (order:0
 ///       would be the lattice order of BM_Dynamics/sph), to show what memory order costs.
@@ -30,7 +33,8 @@
 ///       compression (ε = 3e-6 more per call, dt = 3e-5 ms): counter ns_per_point, and
 ///       plastic_frac as above.
 /// Counters: items_per_second (particle-steps per second), particles, qpoints (integration
-/// points), setup_s (wall seconds of discretize for this case), rss_GB (resident set after the
+/// points), setup_s (wall seconds of discretize for this case), engine_s (the engine's
+/// constructor, with the renumbering for reorder:1), fit_s (set_particle_velocity), rss_GB (resident set after the
 /// run). Speed is measured here only: tests assert no timings.
 #include <algorithm>
 #include <chrono>
@@ -82,15 +86,15 @@ int columns_of(int particles) {
                          " particles");
 }
 
-/// Methods whose set-up at 10^6 particles stays under ~60 s and ~6 GB on the 2-core, 24 GB
-/// machine: sph and rlm (particle values, no velocity fit). kbm-ni, efg-ni and kbm-si spend
-/// 66-123 s per engine in set_particle_velocity's ILUT fit, kbm-si peaks at 7.9 GB and efg-ci
-/// would need about 20 GB (see bench/README.md); they stop at 121,301 particles unless
+/// Methods whose set-up at 10^6 particles stays under ~20 s and ~6 GB on the 2-core, 24 GB
+/// machine: all but efg-ci, since the nodal-velocity fit is Jacobi-preconditioned (0.3-0.8 s
+/// at 10^6 instead of 66-123 s with ILUT). efg-ci has 9 Gauss points per particle and would
+/// need about 20 GB (see bench/README.md); it stops at 121,301 particles unless
 /// MFV_BENCH_DYNAMICS_ALL is set in the environment.
 bool runs_at(const std::string& method, int nx) {
   if (nx < 3000) return true;
   if (std::getenv("MFV_BENCH_DYNAMICS_ALL")) return true;
-  return method == "sph" || method == "rlm";
+  return method != "efg-ci";
 }
 
 Domain rod() { return Domain::rectangle(0, 0, kLength, kDepth); }
@@ -210,8 +214,9 @@ struct Case {
 };
 
 ExplicitDynamics& engine(Case& c, const std::string& method, int particles, bool random_order,
-                         int threads) {
-  const std::string key = method + "/" + std::to_string(particles) + (random_order ? "/r" : "");
+                         bool hilbert, int threads) {
+  const std::string key = method + "/" + std::to_string(particles) + (random_order ? "/r" : "") +
+                          (hilbert ? "/h" : "");
   if (c.key == key && c.sim && c.threads == threads) return *c.sim;
   c.sim.reset();  // frees the previous engine, and below the previous case, first
   if (c.key != key || !c.d) {
@@ -228,6 +233,8 @@ ExplicitDynamics& engine(Case& c, const std::string& method, int particles, bool
   DynamicsOptions opt;
   opt.frame = KernelFrame::lagrangian;
   opt.threads = threads;
+  // The transient analysis's reorder=hilbert: the engine renumbers inside.
+  if (hilbert) opt.order = ParticleOrder::hilbert;
   const auto t0 = std::chrono::steady_clock::now();
   // The last thread count takes the tables; the earlier ones copy them.
   const bool last = threads == kThreads[std::size(kThreads) - 1];
@@ -243,12 +250,12 @@ ExplicitDynamics& engine(Case& c, const std::string& method, int particles, bool
   return *c.sim;
 }
 
-void run(benchmark::State& state, const std::string& method, bool random_order) {
+void run(benchmark::State& state, const std::string& method, bool random_order, bool hilbert) {
   static Case c;
   const int n = static_cast<int>(state.range(0));
   ExplicitDynamics* sim = nullptr;
   try {
-    sim = &engine(c, method, n, random_order, static_cast<int>(state.range(1)));
+    sim = &engine(c, method, n, random_order, hilbert, static_cast<int>(state.range(1)));
   } catch (const std::exception& e) {
     c = Case{};
     state.SkipWithError(e.what());
@@ -272,9 +279,11 @@ void run(benchmark::State& state, const std::string& method, bool random_order) 
   state.counters["rss_GB"] = resident_gb();
 }
 
-void BM_Dynamics(benchmark::State& state, const char* method) { run(state, method, false); }
+void BM_Dynamics(benchmark::State& state, const char* method) {
+  run(state, method, false, state.range(2) != 0);
+}
 
-void BM_DynamicsOrder(benchmark::State& state) { run(state, "sph", state.range(2) != 0); }
+void BM_DynamicsOrder(benchmark::State& state) { run(state, "sph", state.range(2) != 0, false); }
 
 void configure(benchmark::internal::Benchmark* b, int particles) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -286,6 +295,11 @@ void configure(benchmark::internal::Benchmark* b, int particles) {
     b->MinTime(0.5);
 }
 
+/// The methods of the scaling figures (issue 17), measured with and without reorder=hilbert.
+bool reorders(const std::string& method) {
+  return method == "sph" || method == "kbm-si" || method == "efg-ni";
+}
+
 bool register_dynamics_benchmarks() {
   for (const char* method : kMethods)
     for (int nx : kColumns) {
@@ -293,8 +307,10 @@ bool register_dynamics_benchmarks() {
       const int n = lattice_particles(nx);
       auto* b = benchmark::RegisterBenchmark((std::string("BM_Dynamics/") + method).c_str(),
                                              BM_Dynamics, method);
-      b->ArgNames({"N", "omp"});
-      for (int t : kThreads) b->Args({n, t});
+      b->ArgNames({"N", "omp", "reorder"});
+      for (int reorder : {0, 1})
+        if (reorder == 0 || reorders(method))
+          for (int t : kThreads) b->Args({n, t, reorder});
       configure(b, n);
     }
   // Particle order: a random permutation at the largest size. The lattice-order reference is

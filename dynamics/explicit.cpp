@@ -14,6 +14,7 @@
 #include "methods/core/errors.hpp"
 #include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
+#include "methods/ordering.hpp"
 
 namespace mfv {
 
@@ -275,6 +276,14 @@ ForceForm force_form_from(const std::string& name) {
                                name));
 }
 
+ParticleOrder particle_order_from(const std::string& name) {
+  if (name == "none") return ParticleOrder::as_given;
+  if (name == "hilbert") return ParticleOrder::hilbert;
+  throw InputError(fmt::format("unknown particle order '{}'; valid: none (the discretization's), "
+                               "hilbert (renumbered along the Hilbert curve inside the engine)",
+                               name));
+}
+
 TimeIntegrator time_integrator_from(const std::string& name) {
   if (name == "verlet") return TimeIntegrator::verlet;
   if (name == "newmark") return TimeIntegrator::newmark;
@@ -346,6 +355,13 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
     d_.trial->evaluate_into(d_.particles, X_, 0, lists, opt_.threads, values_at_particles_);
   }
   if (opt_.frame == KernelFrame::eulerian) values_at_points0_ = d_.trial_q;
+  if (opt_.order == ParticleOrder::hilbert) {
+    if (opt_.frame != KernelFrame::lagrangian)
+      throw InputError("the Hilbert particle order (reorder=hilbert) is for the Lagrangian "
+                       "kernel, whose tables are built once; use reorder=none with "
+                       "frame=eulerian");
+    renumber_along_hilbert_curve();
+  }
   const int dd = dim_ * dim_;
   F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
   for (int q = 0; q < nq_; ++q)
@@ -356,7 +372,15 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
   const int ns = model_.material->state_size(dim_);
   state_.assign(static_cast<std::size_t>(ns) * nq_, 0.0);
   model_.material->initial_state(dim_, nq_, state_.data());
-  if (model_.initial_state && ns > 0) model_.initial_state(Xq_, ns, state_.data());
+  if (model_.initial_state && ns > 0) {
+    if (renumbered_) {  // the callback gets the points in the engine's order
+      Eigen::MatrixXd xq(dim_, nq_);
+      for (int q = 0; q < nq_; ++q) xq.col(q) = Xq_.col(point_given_[q]);
+      model_.initial_state(xq, ns, state_.data());
+    } else {
+      model_.initial_state(Xq_, ns, state_.data());
+    }
+  }
   build_force_tables();
   apply_prescribed(0, v_, a_);
   internal_force(u_, Eigen::VectorXd::Zero(m), 0, true, f_int_);
@@ -378,8 +402,67 @@ void ExplicitDynamics::build_force_tables() {
     for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) first_point_[t.index[e]] = q;
 }
 
+const ShapeTable& ExplicitDynamics::trial_table() const {
+  return renumbered_ ? trial_r_ : d_.trial_q;
+}
+
 const ShapeTable& ExplicitDynamics::force_table() const {
+  if (renumbered_) return force_is_trial_ ? trial_r_ : force_r_;
   return opt_.force == ForceForm::variational ? d_.trial_q : d_.test_q;
+}
+
+void ExplicitDynamics::renumber_along_hilbert_curve() {
+  const Renumbering r = hilbert_renumbering(d_);
+  const std::vector<int> particle_new = r.particle_new();
+  // Copies of what the force loops read (index and gradients); the discretization keeps its
+  // own order for everything outside the engine.
+  auto copy = [&](const ShapeTable& t) {
+    ShapeTable c;
+    c.dim = t.dim;
+    c.order = 1;
+    c.offsets.resize(nq_ + 1);
+    c.offsets[0] = 0;
+    for (int q = 0; q < nq_; ++q) {
+      const int g = r.point_old[q];
+      c.offsets[q + 1] = c.offsets[q] + t.offsets[g + 1] - t.offsets[g];
+    }
+    c.index.resize(t.entries());
+    c.grad.resize(t.grad.size());
+    for (int q = 0; q < nq_; ++q) {
+      const int g = r.point_old[q];
+      int k = c.offsets[q];
+      for (int e = t.offsets[g]; e < t.offsets[g + 1]; ++e, ++k) {
+        c.index[k] = particle_new[t.index[e]];
+        for (int i = 0; i < dim_; ++i) c.grad[dim_ * k + i] = t.grad[dim_ * e + i];
+      }
+    }
+    return c;
+  };
+  const ShapeTable& force = opt_.force == ForceForm::variational ? d_.trial_q : d_.test_q;
+  if (force.points() != nq_ || static_cast<int>(force.grad.size()) != force.entries() * dim_ ||
+      static_cast<int>(d_.trial_q.grad.size()) != d_.trial_q.entries() * dim_)
+    throw std::logic_error("explicit dynamics needs first derivatives of the functions the "
+                           "internal force sums");
+  force_is_trial_ = &force == &d_.trial_q || (force.offsets == d_.trial_q.offsets &&
+                                              force.index == d_.trial_q.index &&
+                                              force.grad == d_.trial_q.grad);
+  trial_r_ = copy(d_.trial_q);
+  if (!force_is_trial_) force_r_ = copy(force);
+  w0_r_.resize(nq_);
+  for (int q = 0; q < nq_; ++q) w0_r_[q] = w0_[r.point_old[q]];
+  particle_given_ = r.particle_old;
+  point_given_ = r.point_old;
+  u_r_.resize(dim_ * n_);
+  du_r_.resize(dim_ * n_);
+  f_r_.resize(dim_ * n_);
+  renumbered_ = true;
+}
+
+Eigen::MatrixXd ExplicitDynamics::points_to_given(Eigen::MatrixXd by_engine) const {
+  if (!renumbered_) return by_engine;
+  Eigen::MatrixXd out(by_engine.rows(), by_engine.cols());
+  for (int q = 0; q < nq_; ++q) out.col(point_given_[q]) = by_engine.col(q);
+  return out;
 }
 
 void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du,
@@ -399,6 +482,22 @@ void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::Vec
     }
   }
   f.resize(dim_ * n_);
+  if (renumbered_) {
+    // Into the engine's order and back: two passes over the unknowns against the tables'
+    // twenty-odd entries per point.
+    for (int k = 0; k < n_; ++k)
+      for (int c = 0; c < dim_; ++c) {
+        u_r_[dim_ * k + c] = u[dim_ * particle_given_[k] + c];
+        du_r_[dim_ * k + c] = du[dim_ * particle_given_[k] + c];
+      }
+    if (dim_ == 1)
+      forces<1>(u_r_, du_r_, dt, eulerian, viscosity, F, state, f_r_);
+    else
+      forces<2>(u_r_, du_r_, dt, eulerian, viscosity, F, state, f_r_);
+    for (int k = 0; k < n_; ++k)
+      for (int c = 0; c < dim_; ++c) f[dim_ * particle_given_[k] + c] = f_r_[dim_ * k + c];
+    return;
+  }
   if (dim_ == 1)
     forces<1>(u, du, dt, eulerian, viscosity, F, state, f);
   else
@@ -409,7 +508,7 @@ template <int D>
 void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt,
                               bool eulerian, bool viscosity, double* F, double* state,
                               Eigen::VectorXd& f) const {
-  const ShapeTable& t = d_.trial_q;
+  const ShapeTable& t = trial_table();
   const double* S0 = model_.initial_stress.size() ? model_.initial_stress.data() : nullptr;
   PointKernel<D> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
                    opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
@@ -417,7 +516,8 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
   f.setZero();
   compute_forces<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
                     stress_.data(), state, model_.material->state_size(dim_), viscosity,
-                    force_table(), w0_.data(), first_point_.data(), deferred_, f.data(),
+                    force_table(), renumbered_ ? w0_r_.data() : w0_.data(),
+                    first_point_.data(), deferred_, f.data(),
                     opt_.threads);
 }
 
@@ -511,7 +611,8 @@ Eigen::VectorXd ExplicitDynamics::point_state(const std::string& name) const {
   if (it == names.end() || ns == 0) return {};
   const int slot = static_cast<int>(it - names.begin());
   Eigen::VectorXd v(nq_);
-  for (int q = 0; q < nq_; ++q) v[q] = state_[static_cast<std::size_t>(ns) * q + slot];
+  for (int q = 0; q < nq_; ++q)
+    v[renumbered_ ? point_given_[q] : q] = state_[static_cast<std::size_t>(ns) * q + slot];
   return v;
 }
 
@@ -728,7 +829,7 @@ Eigen::MatrixXd ExplicitDynamics::point_cauchy_stress() const {
                                             : Eigen::MatrixXd(S * F.transpose() / J);
     s.col(q) = Eigen::Map<const Eigen::VectorXd>(sigma.data(), dd);
   }
-  return s;
+  return points_to_given(std::move(s));
 }
 
 const std::vector<int>& ExplicitDynamics::particle_points() const {
@@ -772,7 +873,7 @@ std::string ExplicitDynamics::description() const {
                                        opt_.viscosity.alpha, opt_.viscosity.beta, spacing_)
                          : "no artificial viscosity";
   return fmt::format(
-      "{} kernel{}, {}, {}, {}{}, {} thread{}",
+      "{} kernel{}, {}, {}, {}{}, {} thread{}{}",
       opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
       opt_.frame == KernelFrame::eulerian
           ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx)", opt_.update_every,
@@ -785,7 +886,8 @@ std::string ExplicitDynamics::description() const {
       opt_.force == ForceForm::variational
           ? ", variational internal force (transpose of the trial gradient)"
           : "",
-      opt_.threads, opt_.threads > 1 ? "s" : "");
+      opt_.threads, opt_.threads > 1 ? "s" : "",
+      renumbered_ ? ", particles and points renumbered along the Hilbert curve" : "");
 }
 
 }  // namespace mfv

@@ -53,6 +53,18 @@ struct ArtificialViscosity {
   bool enabled() const { return alpha > 0 || beta > 0; }
 };
 
+/// The order the engine keeps particles and integration points in while it steps.
+enum class ParticleOrder {
+  as_given,  ///< the discretization's (default: results bit for bit those of earlier versions)
+  /// Renumbered along the Hilbert curve (methods/ordering.hpp) inside the engine: the force
+  /// loops read neighbours that are near in memory whatever order the set came in. Everything
+  /// the engine takes and gives (prescribed particles, loops, masses, velocities, fields,
+  /// point values, callbacks, discretization()) stays in the discretization's order, so
+  /// problems that name particles by index are unaffected; sums over particles change order,
+  /// so results agree with as_given to round-off, not bit for bit. Lagrangian kernel only.
+  hilbert
+};
+
 struct DynamicsOptions {
   KernelFrame frame = KernelFrame::lagrangian;
   int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
@@ -67,6 +79,7 @@ struct DynamicsOptions {
   ArtificialViscosity viscosity;
   ForceForm force = ForceForm::test_functions;
   int threads = 0;  ///< OpenMP threads for the force loops; 0: the OpenMP default
+  ParticleOrder order = ParticleOrder::as_given;
 };
 
 /// A prescribed velocity of one unknown (particle, component): v(t), or nothing (free) once
@@ -207,8 +220,13 @@ class ExplicitDynamics {
 
  private:
   void build_force_tables();
+  /// The tables the force loops read: the discretization's, or their renumbered copies.
+  const ShapeTable& trial_table() const;
   /// The table whose gradients the internal force sums (the test table, or the trial one).
   const ShapeTable& force_table() const;
+  void renumber_along_hilbert_curve();
+  /// Point-ordered values (rows × nq, the engine's order) in the discretization's order.
+  Eigen::MatrixXd points_to_given(Eigen::MatrixXd by_engine) const;
   /// f_int at displacement u (Lagrangian) or after the increment du from the committed
   /// state (Eulerian); dt > 0 turns on the viscosity (velocity du/dt). `commit` stores F and
   /// the material history; otherwise they are left as they were (trial evaluations).
@@ -243,6 +261,14 @@ class ExplicitDynamics {
   /// The first point of each particle's force-table entries (nq: none), and the force
   /// terms a thread leaves to be added after the parallel loop (compute_forces).
   std::vector<int> first_point_;
+  /// ParticleOrder::hilbert: engine → given numbering of particles and points, the trial and
+  /// force tables renumbered (the force table is trial_r_ itself when the two are equal),
+  /// the reference weights in the engine's order, and gather/scatter scratch.
+  bool renumbered_ = false, force_is_trial_ = false;
+  std::vector<int> particle_given_, point_given_;
+  ShapeTable trial_r_, force_r_;
+  Eigen::VectorXd w0_r_;
+  mutable Eigen::VectorXd u_r_, du_r_, f_r_;
   mutable std::vector<std::vector<std::pair<int, int>>> deferred_;
   /// Eulerian kernel: neighbour lists and table storage kept between recomputations.
   Retabulation retabulation_;
@@ -258,6 +284,8 @@ class ExplicitDynamics {
 /// names otherwise.
 KernelFrame kernel_frame_from(const std::string& name);
 TimeIntegrator time_integrator_from(const std::string& name);
+/// Parses "none"/"hilbert" (ParticleOrder), throwing InputError with the valid names otherwise.
+ParticleOrder particle_order_from(const std::string& name);
 /// Parses "test"/"variational" (ForceForm), throwing InputError with the valid names otherwise.
 ForceForm force_form_from(const std::string& name);
 
