@@ -8,9 +8,10 @@
 ///       reorder:1 (sph, kbm-si, efg-ni) is ParticleOrder::hilbert (the transient analysis's
 ///       reorder=hilbert: the engine renumbers particles and points along the Hilbert curve);
 ///       reorder:0 the lattice order.
-///   BM_DynamicsOrder/sph/N:<particles>/omp:<threads>/order:1
+///   BM_DynamicsOrder/sph/N:<particles>/omp:<threads>/order:1/reorder:<0|1>
 ///       the largest SPH case with the particles randomly permuted before discretize (order:0
-///       would be the lattice order of BM_Dynamics/sph), to show what memory order costs.
+///       would be the lattice order of BM_Dynamics/sph), to show what memory order costs, and
+///       what the engine's Hilbert renumbering (reorder:1) wins back.
 ///   BM_DynamicsFrame/<m>/omp:<threads>/eulerian:<0|1>/every:<n>
 ///       the kernel frames of 001 Tables 1-2 on the 241 × 21 rod (5,061 particles): the
 ///       Lagrangian run, then the Eulerian one with the tables recomputed every n = 1 or 30
@@ -283,7 +284,9 @@ void BM_Dynamics(benchmark::State& state, const char* method) {
   run(state, method, false, state.range(2) != 0);
 }
 
-void BM_DynamicsOrder(benchmark::State& state) { run(state, "sph", state.range(2) != 0, false); }
+void BM_DynamicsOrder(benchmark::State& state) {
+  run(state, "sph", state.range(2) != 0, state.range(3) != 0);
+}
 
 void configure(benchmark::internal::Benchmark* b, int particles) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -317,8 +320,9 @@ bool register_dynamics_benchmarks() {
   // BM_Dynamics/sph/N:999073 (--benchmark_filter=sph/N:999073 runs both); order:0 repeats it.
   const int n = lattice_particles(kColumns[std::size(kColumns) - 1]);
   auto* b = benchmark::RegisterBenchmark("BM_DynamicsOrder/sph", BM_DynamicsOrder);
-  b->ArgNames({"N", "omp", "order"});
-  for (int t : kThreads) b->Args({n, t, 1});
+  b->ArgNames({"N", "omp", "order", "reorder"});
+  for (int reorder : {0, 1})
+    for (int t : kThreads) b->Args({n, t, 1, reorder});
   configure(b, n);
   return true;
 }

@@ -718,9 +718,19 @@ void ExplicitDynamics::step(double dt) {
   // Predictor: u_{n+1} = u_n + dt v_n + dt²/2 a_n (both schemes), velocities at the half step
   // (Verlet) or the Newmark predictor v_n + (1 − γ) dt a_n.
   const double gamma = opt_.integrator == TimeIntegrator::verlet ? 0.5 : opt_.newmark_gamma;
-  v_pred = v_ + (1 - gamma) * dt * a_;
-  du = dt * v_ + 0.5 * dt * dt * a_;
-  u_ += du;
+  // One pass over the unknowns instead of three (at 10^6 particles each pass streams 16 MB);
+  // every entry is the expression v_ + (1 − γ) dt a_, dt v_ + ½ dt² a_ evaluated as before.
+  v_pred.resize(m);
+  {
+    const double c_pred = (1 - gamma) * dt, c_half = 0.5 * dt * dt;
+    const double *v = v_.data(), *a = a_.data();
+    double *vp = v_pred.data(), *d = du.data(), *u = u_.data();
+    for (int i = 0; i < m; ++i) {
+      vp[i] = v[i] + c_pred * a[i];
+      d[i] = dt * v[i] + c_half * a[i];
+      u[i] += d[i];
+    }
+  }
   internal_force(u_, du, dt, true, f_new);
   // Only the Eulerian frame advances F from the committed one; the Lagrangian F is u's.
   if (opt_.frame == KernelFrame::eulerian) committed_F_ = F_;
@@ -736,8 +746,16 @@ void ExplicitDynamics::step(double dt) {
       ext += 0.5 * ((f_int_[i] - f_ext_[i]) + (f_new[i] - fe_new[i])) * du[i];
     }
   energy_.external_work += ext;
-  a_new = ((fe_new - f_new).array() * inv_mass_.array()).matrix();
-  v_ = v_pred + gamma * dt * a_new;
+  {  // a = (f_ext − f_int)/m and v = v_pred + γ dt a in one pass
+    const double c_corr = gamma * dt;
+    const double *fe = fe_new.data(), *fi = f_new.data(), *im = inv_mass_.data(),
+                 *vp = v_pred.data();
+    double *a = a_new.data(), *v = v_.data();
+    for (int i = 0; i < m; ++i) {
+      a[i] = (fe[i] - fi[i]) * im[i];
+      v[i] = vp[i] + c_corr * a[i];
+    }
+  }
   f_int_.swap(f_new);  // the scratch vectors are overwritten next step
   f_ext_.swap(fe_new);
   t_ += dt;
