@@ -177,18 +177,23 @@ void compute_forces(const PointKernel<D>& k, const Material& material, int nq, c
       for (int q = q0; q < q1; ++q) {
         k.finish(F + D * D * q, stress + D * D * q,
                  viscosity ? Lbuf + D * D * (q - q0) : nullptr);
-        const double* S = stress + D * D * q;
+        // The stress in registers: the stores into f cannot then be assumed to change it.
+        double S[D * D];
+        for (int c = 0; c < D * D; ++c) S[c] = stress[D * D * q + c];
+        const double wq = w0[q];
         for (int e = toffsets[q]; e < toffsets[q + 1]; ++e) {
           const int J = tindex[e];
-          if (first_point[J] < first) {
+          if (first > 0 && first_point[J] < first) {  // the first range defers nothing
             later.emplace_back(q, e);
             continue;
           }
-          double* fj = f + D * J;
+          double fj[D];
+          for (int i = 0; i < D; ++i) fj[i] = f[D * J + i];
           for (int j = 0; j < D; ++j) {
-            const double g = w0[q] * tgrad[D * e + j];
+            const double g = wq * tgrad[D * e + j];
             for (int i = 0; i < D; ++i) fj[i] += S[i + D * j] * g;
           }
+          for (int i = 0; i < D; ++i) f[D * J + i] = fj[i];
         }
       }
     }
