@@ -34,7 +34,8 @@
 ///       compression (ε = 3e-6 more per call, dt = 3e-5 ms): counter ns_per_point, and
 ///       plastic_frac as above.
 /// Counters: items_per_second (particle-steps per second), particles, qpoints (integration
-/// points), setup_s (wall seconds of discretize for this case), engine_s (the engine's
+/// points), entries and test_entries (of the trial and test tables at the points), setup_s
+/// (wall seconds of discretize for this case), engine_s (the engine's
 /// constructor, with the renumbering for reorder:1), fit_s (set_particle_velocity), rss_GB (resident set after the
 /// run). Speed is measured here only: tests assert no timings.
 #include <algorithm>
@@ -274,6 +275,8 @@ void run(benchmark::State& state, const std::string& method, bool random_order, 
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kSteps * n);
   state.counters["particles"] = n;
   state.counters["qpoints"] = sim->discretization().quadrature.size();
+  state.counters["entries"] = sim->discretization().trial_q.entries();
+  state.counters["test_entries"] = sim->discretization().test_q.entries();
   state.counters["setup_s"] = c.setup_seconds;
   state.counters["engine_s"] = c.engine_seconds;
   state.counters["fit_s"] = c.fit_seconds;
