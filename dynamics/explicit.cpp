@@ -490,11 +490,13 @@ void ExplicitDynamics::internal_force(const Eigen::VectorXd& u, const Eigen::Vec
   if (renumbered_) {
     // Into the engine's order and back: two passes over the unknowns against the tables'
     // twenty-odd entries per point.
+    // The Lagrangian kernel reads du only for the viscosity's rate (the Eulerian frame, which
+    // needs it always, is refused with this order).
     for (int k = 0; k < n_; ++k)
-      for (int c = 0; c < dim_; ++c) {
-        u_r_[dim_ * k + c] = u[dim_ * particle_given_[k] + c];
-        du_r_[dim_ * k + c] = du[dim_ * particle_given_[k] + c];
-      }
+      for (int c = 0; c < dim_; ++c) u_r_[dim_ * k + c] = u[dim_ * particle_given_[k] + c];
+    if (viscosity || eulerian)
+      for (int k = 0; k < n_; ++k)
+        for (int c = 0; c < dim_; ++c) du_r_[dim_ * k + c] = du[dim_ * particle_given_[k] + c];
     if (dim_ == 1)
       forces<1>(u_r_, du_r_, dt, eulerian, viscosity, F, state, f_r_);
     else

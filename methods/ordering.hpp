@@ -2,12 +2,12 @@
 /// neighbours in space are neighbours in memory (the force loops of explicit dynamics read
 /// the fields of every neighbour of a point).
 ///
-/// The curve is Hilbert's (Hilbert 1891; the iterative index of Warren, Hacker's Delight
-/// §16-2, "Hilbert's curve"): the bounding box is cut into 2^16 × 2^16 cells, each point gets
-/// the index of its cell along the curve, and the points are sorted by it (stable: points in
-/// one cell keep their order). Unlike Morton's Z order, consecutive cells of Hilbert's curve
-/// always share a side, so a run of consecutive indices is a compact patch. In 1D the curve
-/// is the order along x.
+/// The curve is Hilbert's (Hilbert 1891; the iterative rotate-and-reflect index, as in
+/// Warren, Hacker's Delight, 2nd ed., ch. 16 "Hilbert's Curve"): the bounding box is cut into
+/// 2^16 × 2^16 cells, each point gets the index of its cell along the curve, and the points
+/// are sorted by it (stable: points in one cell keep their order). Unlike Morton's Z order,
+/// consecutive cells of Hilbert's curve always share a side, so a run of consecutive indices
+/// is a compact patch. In 1D the curve is the order along x.
 #pragma once
 #include <vector>
 
