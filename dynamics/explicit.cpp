@@ -132,81 +132,39 @@ struct PointKernel {
   }
 };
 
-/// The step's two loops in one pass over the points: per chunk of points, F and the stress
-/// from the trial table's rows, then the chunk's force terms scattered to the particles,
-///   f_J += Σ_j S_q,ij (w_q ∇N^test_J(x_q))_j,
-/// from the force table's rows while they are still in cache. Where the force table is the
-/// trial table (sph, the Galerkin methods) a step streams one table from memory instead of a
-/// table and its transpose. The sum for each particle runs over its points in ascending q,
-/// the order of a serial loop, on any thread count: each thread owns a contiguous range of
-/// points and adds directly to the particles whose first point (first_point) lies in its
-/// range, which no other thread then touches; its terms of particles that an earlier range
-/// reached first are deferred as (q, entry) pairs and added afterwards, thread by thread.
-/// So the forces do not depend on the thread count, bit for bit.
 template <int D>
-void compute_forces(const PointKernel<D>& k, const Material& material, int nq, const double* u,
+void compute_points(const PointKernel<D>& k, const Material& material, int nq, const double* u,
                     const double* du, const double* Fc, double* F, double* stress, double* state,
-                    int state_size, bool viscosity, const ShapeTable& test, const double* w0,
-                    const int* first_point, std::vector<std::vector<std::pair<int, int>>>& deferred,
-                    double* f, int threads) {
+                    int state_size, bool viscosity, int threads) {
   const int chunks = (nq + kChunk - 1) / kChunk;
-  const int* toffsets = test.offsets.data();
-  const int* tindex = test.index.data();
-  const double* tgrad = test.grad.data();
-  const bool parallel = nq > kParallelMinimum && threads > 1;
-  if (static_cast<int>(deferred.size()) < threads) deferred.resize(threads);
-  int team_size = 1;  // the threads the runtime gave, which may be fewer than asked
-#pragma omp parallel num_threads(threads) if (parallel)
-  {
-    const int team = omp_get_num_threads(), me = omp_get_thread_num();
-    if (me == 0) team_size = team;
-    const int c0 = static_cast<int>(static_cast<long>(chunks) * me / team);
-    const int c1 = static_cast<int>(static_cast<long>(chunks) * (me + 1) / team);
-    const int first = c0 * kChunk;
-    std::vector<std::pair<int, int>>& later = deferred[me];
-    later.clear();
+#pragma omp parallel for schedule(static) num_threads(threads) if (nq > kParallelMinimum)
+  for (int c = 0; c < chunks; ++c) {
+    const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
     double Lbuf[kChunk * D * D];
-    for (int c = c0; c < c1; ++c) {
-      const int q0 = c * kChunk, q1 = std::min(nq, q0 + kChunk);
-      for (int q = q0; q < q1; ++q)
-        k.deformation(q, u, du, Fc, F + D * D * q,
-                      viscosity ? Lbuf + D * D * (q - q0) : nullptr);
-      // k.dt is 0 in trial evaluations: a rate-dependent material then responds elastically.
-      material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
-                           state ? state + static_cast<long>(state_size) * q0 : nullptr, k.dt);
-      for (int q = q0; q < q1; ++q) {
-        k.finish(F + D * D * q, stress + D * D * q,
-                 viscosity ? Lbuf + D * D * (q - q0) : nullptr);
-        // The stress in registers: the stores into f cannot then be assumed to change it.
-        double S[D * D];
-        for (int c = 0; c < D * D; ++c) S[c] = stress[D * D * q + c];
-        const double wq = w0[q];
-        for (int e = toffsets[q]; e < toffsets[q + 1]; ++e) {
-          const int J = tindex[e];
-          if (first > 0 && first_point[J] < first) {  // the first range defers nothing
-            later.emplace_back(q, e);
-            continue;
-          }
-          double fj[D];
-          for (int i = 0; i < D; ++i) fj[i] = f[D * J + i];
-          for (int j = 0; j < D; ++j) {
-            const double g = wq * tgrad[D * e + j];
-            for (int i = 0; i < D; ++i) fj[i] += S[i + D * j] * g;
-          }
-          for (int i = 0; i < D; ++i) f[D * J + i] = fj[i];
-        }
-      }
-    }
+    for (int q = q0; q < q1; ++q)
+      k.deformation(q, u, du, Fc, F + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
+    // k.dt is 0 in trial evaluations: a rate-dependent material then responds elastically.
+    material.first_piola(D, q1 - q0, F + D * D * q0, stress + D * D * q0,
+                         state ? state + static_cast<long>(state_size) * q0 : nullptr, k.dt);
+    for (int q = q0; q < q1; ++q)
+      k.finish(F + D * D * q, stress + D * D * q, viscosity ? Lbuf + D * D * (q - q0) : nullptr);
   }
-  for (int t = 1; t < team_size; ++t)
-    for (const auto& [q, e] : deferred[t]) {
-      const double* S = stress + D * D * q;
-      double* fj = f + D * tindex[e];
-      for (int j = 0; j < D; ++j) {
-        const double g = w0[q] * tgrad[D * e + j];
-        for (int i = 0; i < D; ++i) fj[i] += S[i + D * j] * g;
-      }
+}
+
+template <int D>
+void gather_forces(int n, const int* offsets, const int* point, const double* grad,
+                   const double* stress, double* f, int threads) {
+#pragma omp parallel for schedule(static) num_threads(threads) if (n > kParallelMinimum)
+  for (int I = 0; I < n; ++I) {
+    double fi[D] = {};
+    for (int e = offsets[I]; e < offsets[I + 1]; ++e) {
+      const double* S = stress + D * D * point[e];
+      const double* g = grad + D * e;
+      for (int j = 0; j < D; ++j)
+        for (int i = 0; i < D; ++i) fi[i] += S[i + D * j] * g[j];
     }
+    for (int i = 0; i < D; ++i) f[D * I + i] = fi[i];
+  }
 }
 
 /// Solves N c = v for the nodal values c of each component, N_IJ = N_J(X_I) the table of
@@ -397,14 +355,53 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
 
 void ExplicitDynamics::build_force_tables() {
   const ShapeTable& t = force_table();
+  const Eigen::VectorXd& w0 = renumbered_ ? w0_r_ : w0_;
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
     throw std::logic_error("explicit dynamics needs first derivatives of the functions the "
                            "internal force sums");
-  // The first point of each particle in the force table (nq_: none), which decides which
-  // thread of compute_forces adds its terms directly.
-  first_point_.assign(n_, nq_);
-  for (int q = nq_ - 1; q >= 0; --q)
-    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) first_point_[t.index[e]] = q;
+  // A counting sort of the entries by particle, the points split into one contiguous chunk
+  // per thread: thread k's entries of particle I go after those of threads < k, so every
+  // particle lists its points in ascending order, as the serial sort does.
+  const int threads = nq_ > kParallelMinimum ? opt_.threads : 1;
+  const std::size_t stride = static_cast<std::size_t>(n_) + 1;
+  tt_next_.assign(threads * stride, 0);
+  auto chunk = [&](int k, int& q0, int& q1) {
+    q0 = static_cast<int>(static_cast<long>(nq_) * k / threads);
+    q1 = static_cast<int>(static_cast<long>(nq_) * (k + 1) / threads);
+  };
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* count = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int e = t.offsets[q0]; e < t.offsets[q1]; ++e) ++count[t.index[e]];
+  }
+  tt_offsets_.resize(n_ + 1);
+  int base = 0;
+  for (int I = 0; I < n_; ++I) {
+    tt_offsets_[I] = base;
+    for (int k = 0; k < threads; ++k) {
+      int& slot = tt_next_[k * stride + I];
+      const int c = slot;
+      slot = base;  // the count becomes thread k's first slot for particle I
+      base += c;
+    }
+  }
+  tt_offsets_[n_] = base;
+  tt_point_.resize(t.entries());
+  tt_grad_.resize(static_cast<std::size_t>(t.entries()) * dim_);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    int q0, q1;
+    chunk(omp_get_thread_num(), q0, q1);
+    int* next = tt_next_.data() + omp_get_thread_num() * stride;
+    for (int q = q0; q < q1; ++q)
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+        const int slot = next[t.index[e]]++;
+        tt_point_[slot] = q;
+        for (int c = 0; c < dim_; ++c) tt_grad_[dim_ * slot + c] = w0[q] * t.grad[dim_ * e + c];
+      }
+  }
 }
 
 const ShapeTable& ExplicitDynamics::trial_table() const {
@@ -520,12 +517,11 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
   PointKernel<D> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
                    opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
                    model_.density, dt};
-  f.setZero();
-  compute_forces<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
+  compute_points<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
                     stress_.data(), state, model_.material->state_size(dim_), viscosity,
-                    force_table(), renumbered_ ? w0_r_.data() : w0_.data(),
-                    first_point_.data(), deferred_, f.data(),
                     opt_.threads);
+  gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
+                   f.data(), opt_.threads);
 }
 
 namespace {

@@ -258,9 +258,10 @@ class ExplicitDynamics {
   /// Eulerian kernel: the trial values at the integration points at t = 0, N_J(X_q), which
   /// carry a point that is not a particle with the material: x_q = X_q + Σ_J N_J(X_q) u_J.
   ShapeTable values_at_points0_;
-  /// The first point of each particle's force-table entries (nq: none), and the force
-  /// terms a thread leaves to be added after the parallel loop (compute_forces).
-  std::vector<int> first_point_;
+  // Transposed test table with the reference weights folded in: for particle I the entries
+  // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
+  std::vector<int> tt_offsets_, tt_point_, tt_next_;
+  std::vector<double> tt_grad_;
   /// ParticleOrder::hilbert: engine → given numbering of particles and points, the trial and
   /// force tables renumbered (the force table is trial_r_ itself when the two are equal),
   /// the reference weights in the engine's order, and gather/scatter scratch.
@@ -269,7 +270,6 @@ class ExplicitDynamics {
   ShapeTable trial_r_, force_r_;
   Eigen::VectorXd w0_r_;
   mutable Eigen::VectorXd u_r_, du_r_, f_r_;
-  mutable std::vector<std::vector<std::pair<int, int>>> deferred_;
   /// Eulerian kernel: neighbour lists and table storage kept between recomputations.
   Retabulation retabulation_;
   // Per integration point: F (Eulerian: integrated in time), the stress the force sums
