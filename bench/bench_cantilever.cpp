@@ -20,6 +20,8 @@
 #include <string>
 #include <utility>
 
+#include <sys/resource.h>
+
 #include <benchmark/benchmark.h>
 
 #include "problems/problem.hpp"
@@ -105,7 +107,7 @@ const Discretization& discretization(const Setup& s, const char* method, int par
 const AssembledSystem& assembled(const Setup& s, const char* method, int particles) {
   const Discretization& d = discretization(s, method, particles);
   Cached& c = cached(method, particles);
-  if (!c.sys) c.sys = std::make_shared<const AssembledSystem>(s.problem->assemble(d));
+  if (!c.sys) c.sys = std::shared_ptr<const AssembledSystem>(new AssembledSystem(s.problem->assemble(d)));
   return *c.sys;
 }
 
@@ -121,6 +123,28 @@ std::uint64_t peak_resident_bytes() {
 /// Starts a new peak: writing 5 to clear_refs sets VmHWM to the current resident size
 /// (Linux >= 4.0), so each benchmark's peak is its own, not the run's so far.
 void reset_peak_resident() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+/// CPU time of the process so far (all threads), user and system (kernel: page faults).
+struct CpuTimes {
+  double user = 0, sys = 0;
+  static CpuTimes now() {
+    rusage r{};
+    getrusage(RUSAGE_SELF, &r);
+    return {r.ru_utime.tv_sec + 1e-6 * r.ru_utime.tv_usec, r.ru_stime.tv_sec + 1e-6 * r.ru_stime.tv_usec};
+  }
+};
+
+/// user/particle and sys/particle: CPU seconds per iteration and particle spent in user space
+/// (the arithmetic) and in the kernel (mostly first-touch page faults of fresh allocations,
+/// which glibc hands out for every block above its mmap threshold, up to 32 MB, but recycles
+/// below it: small cases repeated in a loop do not pay them, a 10^5 or 10^6 case does).
+void set_cpu_counters(benchmark::State& state, const CpuTimes& before, double particles) {
+  const CpuTimes after = CpuTimes::now();
+  const double per = static_cast<double>(state.iterations()) * particles;
+  if (per <= 0) return;
+  state.counters["user/particle"] = (after.user - before.user) / per;
+  state.counters["sys/particle"] = (after.sys - before.sys) / per;
+}
 
 void set_peak_counter(benchmark::State& state) {
   state.counters["peak_rss_MB"] = static_cast<double>(peak_resident_bytes()) / 1e6;
@@ -214,19 +238,25 @@ void BM_CantileverAssembly(benchmark::State& state, const char* method) {
   if (!fits_in_memory(state, s, n)) return;
   // An error before the loop skips the benchmark (the library then does not run it).
   if (!guarded(state, [&] { d = &discretization(s, method, n); })) return;
-  AssembledSystem sys;
+  // Built in place (new T(prvalue) elides the copy): Eigen 3.4's SparseMatrix has no move
+  // assignment, so `sys = assemble(d)` would time a deep copy of K on top of the assembly.
+  std::unique_ptr<AssembledSystem> sys;
   reset_peak_resident();
+  const CpuTimes cpu = CpuTimes::now();
   for (auto _ : state) {
-    if (!guarded(state, [&] { sys = s.problem->assemble(*d); })) break;
-    benchmark::DoNotOptimize(sys.K.valuePtr());
+    // The previous iteration's system is freed first, as a scope exit would.
+    sys.reset();
+    if (!guarded(state, [&] { sys.reset(new AssembledSystem(s.problem->assemble(*d))); })) break;
+    benchmark::DoNotOptimize(sys->K.valuePtr());
     benchmark::ClobberMemory();
   }
   if (state.error_occurred()) return;
+  set_cpu_counters(state, cpu, d->particles.size());
   set_peak_counter(state);
   set_counters(state, *d);
-  set_system_counters(state, sys);
+  set_system_counters(state, *sys);
   Cached& c = cached(method, n);
-  if (!c.sys) c.sys = std::make_shared<const AssembledSystem>(std::move(sys));
+  if (!c.sys) c.sys = std::shared_ptr<const AssembledSystem>(std::move(sys));
 }
 
 void BM_CantileverSolve(benchmark::State& state, const char* method) {
