@@ -35,17 +35,13 @@ namespace mfv {
 
 namespace {
 
-void check_gradient_table(const ShapeTable& t, int points, int particles, const char* which) {
+void check_gradient_table(const ShapeTable& t, int points, const char* which) {
   if (t.dim != 2 || t.grad.size() != static_cast<std::size_t>(t.entries()) * 2)
     throw std::logic_error("2D elasticity needs gradient tables of a 2D discretization");
   if (t.points() != points)
     throw std::logic_error(fmt::format("2D elasticity: the {} table has {} points, the quadrature "
                                        "rule {}",
                                        which, t.points(), points));
-  for (const int J : t.index)
-    if (J < 0 || J >= particles)
-      throw std::logic_error(fmt::format("2D elasticity: the {} table names particle {} of {}",
-                                         which, J, particles));
 }
 
 /// Spreads the 16 low bits of v to the even bits of the result (Morton interleaving).
@@ -96,6 +92,14 @@ struct TransposedTable {
   std::vector<int> offsets;
   std::unique_ptr<int[]> point, entry;  // uninitialized until transpose writes them
 };
+
+/// Throws when an entry of `t` names no particle (an index outside 0..particles-1).
+void check_particle_indices(const std::vector<int>& index, int particles) {
+  for (const int J : index)
+    if (J < 0 || J >= particles)
+      throw std::logic_error(fmt::format("2D elasticity: a table names particle {} of {}", J,
+                                         particles));
+}
 
 TransposedTable transpose(const ShapeTable& t, int particles) {
   TransposedTable tt;
@@ -157,28 +161,48 @@ void stiffness(const Discretization& d, const Eigen::Matrix3d& D, Eigen::SparseM
   const ShapeTable& trial = d.trial_q;
   const ShapeTable& test = d.test_q;
   const int nq = d.quadrature.size();
-  check_gradient_table(trial, nq, n, "trial");
-  if (&test != &trial) check_gradient_table(test, nq, n, "test");
+  check_gradient_table(trial, nq, "trial");
+  check_gradient_table(test, nq, "test");
+  check_particle_indices(trial.index, n);
+  check_particle_indices(test.index, n);
   const TransposedTable trial_t = transpose(trial, n);
   const std::vector<int> order = morton_order(d.particles.x);
   const double* w = d.quadrature.weights.data();
   const int threads = std::max(1, omp_get_max_threads());
   const bool parallel = run_parallel(threads, n);
+  // Per-thread workspaces, allocated here: an exception (bad_alloc) may not leave a parallel
+  // region, and none of the loops below allocates once these are sized.
+  struct Workspace {
+    std::vector<int> mark, slot, rows;
+    std::vector<double> block;
+  };
+  std::vector<Workspace> work(parallel ? threads : 1);
+  for (Workspace& ws : work) ws.mark.assign(n, -1);
 
   // Symbolic pass: the coupled particles of each J; columns 2J and 2J+1 hold 2 rows each.
   std::vector<std::int64_t> start(static_cast<std::size_t>(n) + 1, 0);
 #pragma omp parallel num_threads(threads) if (parallel)
   {
-    std::vector<int> mark(n, -1);
+    std::vector<int>& mark = work[omp_get_thread_num()].mark;
 #pragma omp for schedule(dynamic, 256)
     for (int t = 0; t < n; ++t) start[order[t] + 1] = count_coupled(order[t], trial_t, test, mark);
   }
-  for (int J = 0; J < n; ++J) start[J + 1] += start[J];
+  std::int64_t widest = 0;
+  for (int J = 0; J < n; ++J) {
+    widest = std::max(widest, start[J + 1]);
+    start[J + 1] += start[J];
+  }
   const std::int64_t nnz = 4 * start[n];
   if (nnz > std::numeric_limits<int>::max())
     throw InputError(fmt::format("2D elasticity: K would have {} non-zeros, more than the 2^31 - 1 "
                                  "its indices address; lower --nodes or the support size",
                                  nnz));
+  for (Workspace& ws : work) {
+    ws.mark.assign(n, -1);  // the numeric pass visits each J again: no stale marks
+    ws.slot.assign(n, 0);
+    ws.rows.reserve(widest);
+    ws.block.reserve(4 * widest);
+  }
 
   K.resize(2 * n, 2 * n);
   K.resizeNonZeros(static_cast<Eigen::Index>(nnz));
@@ -195,8 +219,11 @@ void stiffness(const Discretization& d, const Eigen::Matrix3d& D, Eigen::SparseM
   // Numeric pass: column block J from the points of its trial support.
 #pragma omp parallel num_threads(threads) if (parallel)
   {
-    std::vector<int> mark(n, -1), slot(n, 0), rows;
-    std::vector<double> block;
+    Workspace& ws = work[omp_get_thread_num()];
+    std::vector<int>& mark = ws.mark;
+    std::vector<int>& slot = ws.slot;
+    std::vector<int>& rows = ws.rows;
+    std::vector<double>& block = ws.block;
 #pragma omp for schedule(dynamic, 256)
     for (int t = 0; t < n; ++t) {
       const int J = order[t];
