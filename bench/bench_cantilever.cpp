@@ -10,8 +10,10 @@
 /// Counters: particles, qpoints (integration points), time/particle (wall time of one run
 /// divided by the particle count), unknowns and nnz of K, and for the solve the fill of the
 /// factors; peak_rss_MB is the process's peak resident memory during the benchmark (VmHWM,
-/// reset at its start), with what was already resident (the discretization) included.
-/// Speed is measured here only: tests assert no timings.
+/// reset at its start), with what was already resident (the discretization) included; for the
+/// assembly, user/particle and sys/particle split its CPU time into user space and kernel
+/// (page faults). A 10^6 case whose estimated memory exceeds MemAvailable is skipped with the
+/// estimate in its error. Speed is measured here only: tests assert no timings.
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
