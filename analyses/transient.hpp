@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "analyses/case.hpp"
-#include "dynamics/explicit.hpp"
+#include "dynamics/dynamics_engine.hpp"
 #include "problems/transient_problem.hpp"
 
 namespace mfv {
@@ -42,8 +42,10 @@ inline constexpr double kEnergyBound = 1e4;
 /// Stops at once, with the instability set ("unstable at step k, t = …"), at the first step
 /// whose kinetic energy, work or fields are not finite or whose kinetic energy exceeds
 /// kEnergyBound · E_in; the checkpoints after it are not reached (their values stay NaN).
-/// def.unstable may mark the run unstable without stopping it.
-void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
+/// def.unstable may mark the run unstable without stopping it. The problem's callbacks read
+/// sim.state(): a distributed engine gathers its fields for them (at every step only when the
+/// problem sets `unstable` or `stop`).
+void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
                    const TransientDefinition& def, const std::vector<double>& checkpoints,
                    const Params& dynamics, TransientMeasures& m, CaseResult& r);
 
