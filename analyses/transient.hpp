@@ -17,8 +17,9 @@ namespace mfv {
 /// Parameters of the engine, the analysis's schema (a problem changes their defaults by
 /// Problem::analysis_defaults):
 /// frame (lagrangian|eulerian), update_every, integrator (verlet|newmark), gamma, safety,
-/// dt (0: safety × the critical step), av_alpha, av_beta (viscosity), threads, frames (VTK
-/// snapshots per run), samples (history rows per run).
+/// dt (0: safety × the critical step), av_alpha, av_beta (viscosity), threads, engine
+/// (native|petsc: dynamics/dynamics_engine.hpp), frames (VTK snapshots per run), samples
+/// (history rows per run).
 ParamSchema dynamics_schema(const std::string& default_integrator = "verlet",
                             double default_safety = 0.8);
 DynamicsOptions dynamics_options(const Params& resolved);

@@ -6,8 +6,8 @@
 ///
 /// A plain program rather than a Google Benchmark one, because the PETSc runs are MPI jobs
 /// whose ranks must time the same steps: one case per process,
-///   bench_petsc_dynamics <method> <columns> native <threads> [steps]
-///   mpiexec -n <ranks> bench_petsc_dynamics <method> <columns> petsc 1 [steps]
+///   bench_petsc_dynamics <method> <columns> native <threads> [along|across] [steps]
+///   mpiexec -n <ranks> bench_petsc_dynamics <method> <columns> petsc 1 [along|across] [steps]
 /// builds the rod with `columns` × ((columns − 1)/12 + 1) particles, the engine, the initial
 /// velocity, takes 5 untimed steps, then times `steps` steps (default 3×10⁷ particle-steps,
 /// at least 20) between barriers and prints one JSON object (rank 0): particle-steps per
@@ -16,6 +16,13 @@
 /// sum), and for PETSc each rank's halo (PetscHalo: ghost unknowns of F's MatMult and the
 /// force's MatMultTranspose, halo bytes per step, operator bytes streamed per step); for the
 /// native engine the bytes of its two tables streamed per step.
+///
+/// PETSc gives each rank a contiguous range of particle numbers, and the lattice numbers x
+/// fastest. `along` (default) lays the rod along x, as bench_dynamics does: the ranges are
+/// bands of rows, so the cut between two ranks runs the rod's length (481 particles at
+/// 19,721). `across` lays the same rod along y: the ranges are bands of the length, and the
+/// cut crosses the rod (41 particles), the partition a space-filling-curve numbering or a
+/// graph partitioner would find. The physics is the same, turned by 90°.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -41,8 +48,15 @@ using namespace mfv;
 
 constexpr double kLength = 60, kDepth = 5, kYoung = 210, kPoisson = 0, kDensity = 7.8e-6;
 
-Domain rod() { return Domain::rectangle(0, 0, kLength, kDepth); }
+Domain rod(bool across = false) {
+  return across ? Domain::rectangle(0, 0, kDepth, kLength) : Domain::rectangle(0, 0, kLength, kDepth);
+}
 int rows_of(int nx) { return (nx - 1) / 12 + 1; }
+
+ParticleSet rod_particles(int nx, bool across) {
+  return across ? rectangle_lattice(rod(true), rows_of(nx), nx, Placement::boundary)
+                : rectangle_lattice(rod(), nx, rows_of(nx), Placement::boundary);
+}
 
 DynamicsModel rod_model(const ParticleSet& particles) {
   Params mp;
@@ -55,10 +69,12 @@ DynamicsModel rod_model(const ParticleSet& particles) {
   return model;
 }
 
-Eigen::MatrixXd rod_velocity(const ParticleSet& particles) {
+/// The Gaussian pulse along the rod's axis (x, or y for a rod laid `across`).
+Eigen::MatrixXd rod_velocity(const ParticleSet& particles, bool across) {
+  const int axis = across ? 1 : 0;
   Eigen::MatrixXd v = Eigen::MatrixXd::Zero(2, particles.size());
   for (int I = 0; I < particles.size(); ++I)
-    v(0, I) = std::exp(-0.025 * std::pow(particles.x(0, I) - 0.5 * kLength, 2));
+    v(axis, I) = std::exp(-0.025 * std::pow(particles.x(axis, I) - 0.5 * kLength, 2));
   return v;
 }
 
@@ -97,35 +113,40 @@ long table_bytes(const ShapeTable& t, int dim) {
 
 int run(int argc, char** argv) {
   if (argc < 5) {
-    std::fprintf(stderr, "usage: %s <method> <columns> native|petsc <threads> [steps]\n",
+    std::fprintf(stderr,
+                 "usage: %s <method> <columns> native|petsc <threads> [along|across] [steps]\n",
                  argv[0]);
     return 2;
   }
   const std::string method = argv[1], engine = argv[3];
   const int nx = std::atoi(argv[2]), threads = std::atoi(argv[4]);
-  long steps = argc > 5 ? std::atol(argv[5]) : 0;
-  if (nx < 13 || (nx - 1) % 12 != 0 || threads < 1 || (engine != "native" && engine != "petsc")) {
-    std::fprintf(stderr, "columns must be 12k + 1 >= 13, threads >= 1, engine native|petsc\n");
+  const std::string orientation = argc > 5 ? argv[5] : "along";
+  long steps = argc > 6 ? std::atol(argv[6]) : 0;
+  if (nx < 13 || (nx - 1) % 12 != 0 || threads < 1 || (engine != "native" && engine != "petsc") ||
+      (orientation != "along" && orientation != "across")) {
+    std::fprintf(stderr, "columns must be 12k + 1 >= 13, threads >= 1, engine native|petsc, "
+                         "orientation along|across\n");
     return 2;
   }
+  const bool across = orientation == "across";
   const bool distributed = engine == "petsc";
   if (distributed) petsc::ensure_initialized();
   const int rank = petsc::rank(), ranks = petsc::size();
   const double ratio = critical_ratio(method);
   const auto m = bench::catalogue().methods.create(method);
-  const ParticleSet particles = rectangle_lattice(rod(), nx, rows_of(nx), Placement::boundary);
+  const ParticleSet particles = rod_particles(nx, across);
   const int n = particles.size();
   if (steps <= 0) steps = std::max(20L, std::lround(3e7 / n));
   const double dt = 0.8 * ratio * particles.spacing / std::sqrt(kYoung / kDensity);
   const double t_setup = now();
-  Discretization d = m->discretize(rod(), particles, 1);
+  Discretization d = m->discretize(rod(across), particles, 1);
   const int nq = d.quadrature.size();
   const long native_bytes = table_bytes(d.trial_q, 2) + table_bytes(d.test_q, 2);
   DynamicsOptions opt;
   opt.threads = threads;
   std::unique_ptr<DynamicsEngine> sim =
       make_dynamics_engine(engine, *m, std::move(d), rod_model(particles), opt);
-  sim->set_particle_velocity(rod_velocity(particles));
+  sim->set_particle_velocity(rod_velocity(particles, across));
   const double setup = now() - t_setup;
   for (int s = 0; s < 5; ++s) sim->step(dt);
   if (distributed) MPI_Barrier(PETSC_COMM_WORLD);
@@ -161,11 +182,13 @@ int run(int argc, char** argv) {
   }
   if (rank == 0)
     std::printf("{\"method\": \"%s\", \"engine\": \"%s\", \"ranks\": %d, \"threads\": %d, "
+                "\"orientation\": \"%s\", "
                 "\"particles\": %d, \"qpoints\": %d, \"steps\": %ld, \"wall_s\": %.4f, "
                 "\"particle_steps_per_s\": %.4g, \"cpu_s\": %.4f, "
                 "\"particle_steps_per_cpu_s\": %.4g, \"setup_s\": %.2f, \"rss_GB_max_rank\": %.3f, "
                 "\"rss_GB_sum\": %.3f, \"native_table_bytes_per_step\": %ld, \"halo\": %s}\n",
-                method.c_str(), engine.c_str(), ranks, threads, n, nq, steps, wall,
+                method.c_str(), engine.c_str(), ranks, threads, orientation.c_str(), n, nq, steps,
+                wall,
                 static_cast<double>(n) * steps / wall, cpu, static_cast<double>(n) * steps / cpu,
                 setup, rss_max, rss_sum, native_bytes,
                 halo.c_str());

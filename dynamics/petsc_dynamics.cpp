@@ -34,20 +34,68 @@ Range split(MPI_Comm comm, PetscInt n) {
   return {end - local, end};
 }
 
-/// The gradient operator of table t: an AIJ matrix with a row per (point q, direction j) of
-/// this rank's points and a column per particle J, entry w_q ∂N_J/∂X_j(X_q) (w_q = 1 without
+/// Which rank each integration point lives on, as the global row order of the operators:
+/// `order` lists the points of rank 0, then rank 1 ..., each in ascending number, and
+/// `begin[r]` is where rank r's start. A nodal point (a particle's own, q < nodal_points)
+/// goes with its particle; any other point (stress points, Gauss points) with the particle of
+/// median number in its support, so that a point's support is mostly on its own rank and the
+/// halo stays the band along the cut whatever the rule's numbering.
+struct PointPartition {
+  std::vector<int> order;
+  std::vector<PetscInt> begin;
+};
+
+PointPartition partition_points(const ShapeTable& t, int nodal_points, int n,
+                                const std::vector<PetscInt>& particle_begin) {
+  const int ranks = static_cast<int>(particle_begin.size()) - 1;
+  auto owner = [&](int J) {
+    return static_cast<int>(std::upper_bound(particle_begin.begin(), particle_begin.end(), J) -
+                            particle_begin.begin()) - 1;
+  };
+  const int nq = t.points();
+  std::vector<int> rank_of(nq);
+  std::vector<int> support;
+  for (int q = 0; q < nq; ++q) {
+    if (q < nodal_points && q < n) {
+      rank_of[q] = owner(q);
+      continue;
+    }
+    support.assign(t.index.begin() + t.offsets[q], t.index.begin() + t.offsets[q + 1]);
+    if (support.empty()) {
+      rank_of[q] = 0;
+      continue;
+    }
+    auto mid = support.begin() + support.size() / 2;
+    std::nth_element(support.begin(), mid, support.end());
+    rank_of[q] = owner(*mid);
+  }
+  PointPartition p;
+  p.begin.assign(ranks + 1, 0);
+  for (int q = 0; q < nq; ++q) ++p.begin[rank_of[q] + 1];
+  for (int r = 0; r < ranks; ++r) p.begin[r + 1] += p.begin[r];
+  p.order.resize(nq);
+  std::vector<PetscInt> next(p.begin.begin(), p.begin.end() - 1);
+  for (int q = 0; q < nq; ++q) p.order[next[rank_of[q]]++] = q;
+  return p;
+}
+
+/// The gradient operator of table t: an AIJ matrix with a row per (point, direction j) of
+/// this rank's points (rows k = points.begin ... in the partition's order, point
+/// order[k]) and a column per particle J, entry w_q ∂N_J/∂X_j(X_q) (w_q = 1 without
 /// weights), preallocated exactly from the table's rows (diagonal block: this rank's
 /// particles; off-diagonal block: the others).
 Mat gradient_operator(MPI_Comm comm, const ShapeTable& t, int dim, Range points,
-                      Range particles, PetscInt n, const Eigen::VectorXd* weights) {
+                      const std::vector<int>& order, Range particles, PetscInt n,
+                      const Eigen::VectorXd* weights) {
   const PetscInt rows = dim * points.size();
   std::vector<PetscInt> d_nnz(rows), o_nnz(rows);
-  for (PetscInt q = points.begin; q < points.end; ++q) {
+  for (PetscInt k = points.begin; k < points.end; ++k) {
+    const int q = order[k];
     PetscInt d = 0, o = 0;
     for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) ++(particles.owns(t.index[e]) ? d : o);
     for (int j = 0; j < dim; ++j) {
-      d_nnz[dim * (q - points.begin) + j] = d;
-      o_nnz[dim * (q - points.begin) + j] = o;
+      d_nnz[dim * (k - points.begin) + j] = d;
+      o_nnz[dim * (k - points.begin) + j] = o;
     }
   }
   Mat G = nullptr;
@@ -62,12 +110,13 @@ Mat gradient_operator(MPI_Comm comm, const ShapeTable& t, int dim, Range points,
   ok(MatSetOption(G, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE), "MatSetOption");
   std::vector<PetscInt> cols;
   std::vector<PetscScalar> vals;
-  for (PetscInt q = points.begin; q < points.end; ++q) {
+  for (PetscInt k = points.begin; k < points.end; ++k) {
+    const int q = order[k];
     const int e0 = t.offsets[q], e1 = t.offsets[q + 1];
     cols.assign(t.index.begin() + e0, t.index.begin() + e1);
     vals.resize(e1 - e0);
     for (int j = 0; j < dim; ++j) {
-      const PetscInt row = dim * q + j;
+      const PetscInt row = dim * k + j;
       for (int e = e0; e < e1; ++e)
         vals[e - e0] = weights ? (*weights)[q] * t.grad[dim * e + j] : t.grad[dim * e + j];
       ok(MatSetValues(G, 1, &row, e1 - e0, cols.data(), vals.data(), INSERT_VALUES),
@@ -150,7 +199,8 @@ struct PetscDynamics::Impl {
   ExplicitDynamics native;
   MPI_Comm comm = PETSC_COMM_WORLD;
   int dim = 1, n = 0, nq = 0, dd = 1, ns = 0;
-  Range particles, points;
+  Range particles, points;  ///< points: rows in the partition's order
+  std::vector<int> point_order;  ///< the point of each global row (PointPartition::order)
   double t = 0, spacing = 0, wave_speed = 0;
   EnergyBalance energy;
   DynamicsCounters counters;
@@ -192,7 +242,6 @@ struct PetscDynamics::Impl {
   void points_stress(double dt, bool viscosity);
   void internal_force(double dt);
   void gather(Vec x, bool unknowns, Eigen::VectorXd& out);
-  void gather(Vec x, std::vector<double>& out);
 };
 
 template <int D>
@@ -271,12 +320,6 @@ void PetscDynamics::Impl::gather(Vec x, bool unknowns, Eigen::VectorXd& out) {
   ok(VecRestoreArrayRead(all, &p), "VecRestoreArrayRead");
 }
 
-void PetscDynamics::Impl::gather(Vec x, std::vector<double>& out) {
-  Eigen::VectorXd all;
-  gather(x, false, all);
-  out.assign(all.data(), all.data() + all.size());
-}
-
 PetscDynamics::PetscDynamics(const Method& method, Discretization d, DynamicsModel model,
                              DynamicsOptions options) {
   auto refuse = [](const std::string& what, const std::string& why) {
@@ -303,15 +346,25 @@ PetscDynamics::PetscDynamics(const Method& method, Discretization d, DynamicsMod
   s.spacing = disc.particles.spacing;
   s.wave_speed = s.model.material->wave_speed(s.dim, s.model.density);
   s.particles = split(s.comm, s.n);
-  s.points = split(s.comm, s.nq);
   const ShapeTable& trial = disc.trial_q;
   const ShapeTable& test = s.opt.force == ForceForm::variational ? disc.trial_q : disc.test_q;
   for (const ShapeTable* t : {&trial, &test})
     if (t->points() != s.nq || static_cast<int>(t->grad.size()) != t->entries() * s.dim)
       throw std::logic_error("the PETSc engine needs first derivatives of the trial and test "
                              "functions at every integration point");
-  s.G = gradient_operator(s.comm, trial, s.dim, s.points, s.particles, s.n, nullptr);
-  s.Gt = gradient_operator(s.comm, test, s.dim, s.points, s.particles, s.n,
+  {
+    const int ranks = petsc::size();
+    std::vector<PetscInt> particle_begin(ranks + 1, 0);
+    MPI_Allgather(&s.particles.end, 1, MPIU_INT, particle_begin.data() + 1, 1, MPIU_INT, s.comm);
+    PointPartition pp =
+        partition_points(trial, disc.quadrature.nodal_points, s.n, particle_begin);
+    const int r = petsc::rank();
+    s.points = {pp.begin[r], pp.begin[r + 1]};
+    s.point_order = std::move(pp.order);
+  }
+  s.G = gradient_operator(s.comm, trial, s.dim, s.points, s.point_order, s.particles, s.n,
+                          nullptr);
+  s.Gt = gradient_operator(s.comm, test, s.dim, s.points, s.point_order, s.particles, s.n,
                            &disc.quadrature.weights);
   ok(MatCreateMAIJ(s.G, s.dim, &s.GM), "MatCreateMAIJ");
   ok(MatCreateMAIJ(s.Gt, s.dim, &s.GtM), "MatCreateMAIJ");
@@ -362,15 +415,20 @@ void PetscDynamics::load_from_native() {
     Local l(x);
     for (PetscInt i = 0; i < mloc; ++i) l[i] = (*src)[u0 + i];
   }
-  const long p0 = static_cast<long>(s.dd) * s.points.begin, ploc = s.dd * s.points.size();
   const std::pair<Vec, const std::vector<double>*> per_point[] = {{s.H, &e.F_},
                                                                   {s.P, &e.stress_}};
   for (const auto& [x, src] : per_point) {
     Local l(x);
-    for (long i = 0; i < ploc; ++i) l[i] = (*src)[p0 + i];
+    for (PetscInt k = 0; k < s.points.size(); ++k) {
+      const long q = s.point_order[s.points.begin + k];
+      for (int c = 0; c < s.dd; ++c) l[s.dd * k + c] = (*src)[s.dd * q + c];
+    }
   }
-  s.history.assign(e.state_.begin() + static_cast<long>(s.ns) * s.points.begin,
-                   e.state_.begin() + static_cast<long>(s.ns) * s.points.end);
+  s.history.resize(static_cast<std::size_t>(s.ns) * s.points.size());
+  for (PetscInt k = 0; k < s.points.size(); ++k) {
+    const long q = s.point_order[s.points.begin + k];
+    for (int c = 0; c < s.ns; ++c) s.history[s.ns * k + c] = e.state_[s.ns * q + c];
+  }
   s.t = e.t_;
   s.energy = e.energy_;
   s.counters = e.counters_;
@@ -466,16 +524,28 @@ const ExplicitDynamics& PetscDynamics::state() {
   s.gather(s.a, true, e.a_);
   s.gather(s.f_int, true, e.f_int_);
   s.gather(s.f_ext, true, e.f_ext_);
-  s.gather(s.H, e.F_);
-  s.gather(s.P, e.stress_);
+  // Per-point fields arrive in the partition's row order: back to the points' numbers.
+  auto unpermute = [&](const double* rows, int width, std::vector<double>& out) {
+    for (int k = 0; k < s.nq; ++k) {
+      const long q = s.point_order[k];
+      for (int c = 0; c < width; ++c) out[width * q + c] = rows[static_cast<long>(width) * k + c];
+    }
+  };
+  Eigen::VectorXd rows;
+  s.gather(s.H, false, rows);
+  unpermute(rows.data(), s.dd, e.F_);
+  s.gather(s.P, false, rows);
+  unpermute(rows.data(), s.dd, e.stress_);
   if (s.ns > 0) {
     const int ranks = petsc::size();
     std::vector<int> counts(ranks), displs(ranks);
     const int mine = static_cast<int>(s.history.size());
     MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, s.comm);
     for (int r = 1; r < ranks; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    MPI_Allgatherv(s.history.data(), mine, MPI_DOUBLE, e.state_.data(), counts.data(),
+    std::vector<double> all(e.state_.size());
+    MPI_Allgatherv(s.history.data(), mine, MPI_DOUBLE, all.data(), counts.data(),
                    displs.data(), MPI_DOUBLE, s.comm);
+    unpermute(all.data(), s.ns, e.state_);
   }
   e.t_ = s.t;
   e.energy_ = s.energy;

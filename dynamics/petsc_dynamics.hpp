@@ -11,9 +11,11 @@
 /// interleaved unknowns (u_x, u_y of each particle), so H's entries per point are F − I in
 /// ExplicitDynamics's column-major order and one scatter of dim values per ghost particle is
 /// the halo of each product (PETSc's own VecScatter; reversed and added for the transpose).
-/// Rows (points) and columns (particles) are split into contiguous ranges over the ranks; the
-/// material is called on each rank's own points in batches, as the native engine calls it,
-/// with the history kept where the point lives. Velocity Verlet or explicit Newmark with
+/// Columns (particles) are split into contiguous ranges of their numbers over the ranks, and
+/// each point goes with its particle (nodal points) or with the median particle of its
+/// support (stress and Gauss points); the rows are numbered rank by rank. The material is
+/// called on each rank's own points in batches, as the native engine calls it, with the
+/// history kept where the point lives. Velocity Verlet or explicit Newmark with
 /// lumped masses, prescribed velocities, external forces, artificial viscosity (Ḟ = G du/dt
 /// is one more MatMult) and the energy balance (one MPI_Allreduce per step) follow
 /// ExplicitDynamics::step line by line, so one rank matches it to round-off (the products sum
