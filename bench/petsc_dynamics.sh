@@ -9,6 +9,8 @@
 # their core (OMP_WAIT_POLICY=passive, Open MPI's mpi_yield_when_idle): on a machine shared
 # with other jobs, spinning waits multiply every stall.
 #   bench/petsc_dynamics.sh [build dir]   → bench/results/petsc_dynamics.json (or $OUT)
+#   COLUMNS=3457 OUT=bench/results/petsc_dynamics_1e6.json bench/petsc_dynamics.sh
+#                                         → the 10⁶ set alone (COLUMNS: lattice columns)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build/release}
@@ -34,7 +36,8 @@ one() {  # method columns engine threads-or-ranks [along|across]
   echo "$line" | jq -c --argjson load "$load" '. + {load_before: $load}' | tee -a "$runs"
 }
 
-for columns in 481 1201 ${LARGE:+3457}; do
+columns_set=${COLUMNS:-481 1201 ${LARGE:+3457}}
+for columns in $columns_set; do
   for method in sph kbm-si; do
     # kbm-si at 10^6: the velocity fit alone takes minutes and ~8 GB per engine (README).
     [[ $columns == 3457 && $method != sph ]] && continue
@@ -48,9 +51,12 @@ done
 
 # The same rods turned across the numbering (bench_petsc_dynamics.cpp): the contiguous split
 # then cuts across the rod, the halo a good partition gives.
-for columns in 481 1201; do
+for columns in $columns_set; do
   for method in sph kbm-si; do
-    for ((r = 0; r < reps; ++r)); do one "$method" "$columns" petsc 2 across; done
+    [[ $columns == 3457 && $method != sph ]] && continue
+    n=$reps
+    [[ $columns == 3457 ]] && n=1
+    for ((r = 0; r < n; ++r)); do one "$method" "$columns" petsc 2 across; done
   done
 done
 
