@@ -568,9 +568,15 @@ Eigen::VectorXd PetscDynamics::velocity() const {
 
 std::string PetscDynamics::description() const {
   const Impl& s = *impl_;
+  // The native description ends with its OpenMP thread count, which does not run these steps
+  // (one thread per rank).
+  std::string base = s.native.description();
+  if (const auto k = base.rfind(", "); k != std::string::npos &&
+                                       base.find(" thread", k) != std::string::npos)
+    base.erase(k);
   return fmt::format("{}; PETSc total-Lagrangian engine on {} MPI rank{} (MPIAIJ gradient "
-                     "operators applied per component by MAIJ)",
-                     s.native.description(), s.halo.ranks, s.halo.ranks > 1 ? "s" : "");
+                     "operators applied per component by MAIJ, 1 thread per rank)",
+                     base, s.halo.ranks, s.halo.ranks > 1 ? "s" : "");
 }
 
 std::unique_ptr<DynamicsEngine> make_dynamics_engine(const std::string& name,
