@@ -21,6 +21,10 @@
 /// ExplicitDynamics::step line by line, so one rank matches it to round-off (the products sum
 /// a row in PETSc's column order).
 ///
+/// External forces come from the model's callback, which fills every unknown on every rank
+/// (each keeps its own entries): O(N) per rank and step, fine for the problems' boundary
+/// loads, to be distributed with the set-up.
+///
 /// Every rank builds the native engine on the whole discretization too: it supplies the
 /// initial state (the nodal velocity fit, the initial force), the critical step, and the
 /// ExplicitDynamics the problems' callbacks read, into which state() gathers the distributed
