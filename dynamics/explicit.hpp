@@ -205,6 +205,9 @@ class ExplicitDynamics {
   Eigen::MatrixXd positions_of(const std::vector<int>& particles) const;
 
  private:
+  /// The PETSc engine (dynamics/petsc_dynamics.hpp) starts from this engine's initial state
+  /// and gathers its distributed fields into it for the problems' callbacks.
+  friend class PetscDynamics;
   void build_force_tables();
   /// f_int at displacement u (Lagrangian) or after the increment du from the committed
   /// state (Eulerian); dt > 0 turns on the viscosity (velocity du/dt). `commit` stores F and
