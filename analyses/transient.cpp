@@ -45,6 +45,10 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "memory at 10^5-10^6 particles or for unordered sets; the problem and "
                         "the report keep the particle numbering. Default none: sums over "
                         "particles keep their order and the suite's numbers stay bit for bit"),
+      ParamSpec::choice("engine", "native", {"native", "petsc"},
+                        "native (OpenMP, every option) or petsc: the total-Lagrangian step as "
+                        "PETSc sparse products across the MPI ranks (dynamics/petsc_dynamics.hpp; "
+                        "Lagrangian kernel only)"),
       ParamSpec::count("frames", 12, 0, "VTK snapshots per run (0: none)"),
       ParamSpec::count("samples", 200, 2, "rows of the time histories per run"),
   };
@@ -91,7 +95,7 @@ StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
   return c;
 }
 
-void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
+void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
                    const TransientDefinition& plan, const std::vector<double>& checkpoints,
                    const Params& dynamics, TransientMeasures& m, CaseResult& r) {
   const std::string& label = plan.label;
@@ -137,20 +141,22 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     const EnergyBalance& e = sim.energy();
     std::vector<double> row{sim.time(), e.kinetic, e.internal_work, e.external_work,
                             e.balance()};
+    const ExplicitDynamics& now = sim.state();
     if (plan.probes)
-      for (double v : plan.probes(sim)) row.push_back(v);
+      for (double v : plan.probes(now)) row.push_back(v);
     td.history.push_back(std::move(row));
-    if (sim.displacement().size() > 0)
-      td.max_displacement = std::max(td.max_displacement, sim.displacement().cwiseAbs().maxCoeff());
+    if (now.displacement().size() > 0)
+      td.max_displacement = std::max(td.max_displacement, now.displacement().cwiseAbs().maxCoeff());
   };
   auto snapshot = [&]() {
+    const ExplicitDynamics& now = sim.state();
     TransientData::Frame f;
-    f.time = sim.time();
-    f.x = sim.particle_positions();
-    f.data.emplace_back("velocity", sim.particle_velocity());
-    f.data.emplace_back("displacement", sim.particle_displacement());
-    const Eigen::MatrixXd sigma = sim.particle_cauchy_stress();
-    if (sim.dim() == 1) {
+    f.time = now.time();
+    f.x = now.particle_positions();
+    f.data.emplace_back("velocity", now.particle_velocity());
+    f.data.emplace_back("displacement", now.particle_displacement());
+    const Eigen::MatrixXd sigma = now.particle_cauchy_stress();
+    if (now.dim() == 1) {
       f.data.emplace_back("stress", sigma);
     } else {  // Voigt xx, yy, xy from the column-major 2×2 blocks
       Eigen::MatrixXd voigt(3, sigma.cols());
@@ -159,7 +165,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
       voigt.row(2) = sigma.row(2);
       f.data.emplace_back("stress", std::move(voigt));
     }
-    if (plan.frame_data) plan.frame_data(sim, f.data);
+    if (plan.frame_data) plan.frame_data(now, f.data);
     td.frames.push_back(std::move(f));
   };
   record();
@@ -185,8 +191,7 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     // The generic blow-up checks come before the checkpoints: a checkpoint at a step that
     // blew up is not reached.
     if (!std::isfinite(e.kinetic) || !std::isfinite(e.internal_work) ||
-        !std::isfinite(e.external_work) || !sim.displacement().allFinite() ||
-        !sim.velocity().allFinite()) {
+        !std::isfinite(e.external_work) || !sim.fields_finite()) {
       mark_unstable(s, fmt::format("the fields went non-finite (kinetic energy {:.3g}, internal "
                                    "work {:.3g})",
                                    e.kinetic, e.internal_work));
@@ -206,13 +211,14 @@ void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
     worst = std::max(worst, std::abs(e.balance()));
     for (std::size_t c = 0; c < check_steps.size(); ++c)
       if (check_steps[c] == s && plan.at_checkpoint)
-        plan.at_checkpoint(sim, static_cast<int>(c), m);
+        plan.at_checkpoint(sim.state(), static_cast<int>(c), m);
     if (s % sample_every == 0 || s == steps) record();
     if (frame_every && (s % frame_every == 0 || s == steps)) snapshot();
     bar.update(s, sim.time());
     if (plan.unstable && !td.instability)
-      if (std::string why = plan.unstable(sim); !why.empty()) mark_unstable(s, std::move(why));
-    if (plan.stop && plan.stop(sim)) break;
+      if (std::string why = plan.unstable(sim.state()); !why.empty())
+        mark_unstable(s, std::move(why));
+    if (plan.stop && plan.stop(sim.state())) break;
   }
   bar.finish();
   td.steps = done;
@@ -240,9 +246,11 @@ class TransientAnalysis final : public Analysis {
     const double t0 = cpu_seconds();
     TransientDefinition def = problem.define(
         d, TransientInputs{c.plugins.materials, c.spec.method, r.method_params, c.spec.nodes, p_});
-    ExplicitDynamics sim(c.method, std::move(d), std::move(def.model), dynamics_options(p_));
+    const std::unique_ptr<DynamicsEngine> engine = make_dynamics_engine(
+        p_.text("engine"), c.method, std::move(d), std::move(def.model), dynamics_options(p_));
+    DynamicsEngine& sim = *engine;
     if (def.initial_velocity.size() > 0) sim.set_particle_velocity(def.initial_velocity);
-    StepChoice step = choose_step(sim, p_);
+    StepChoice step = choose_step(sim.state(), p_);
     if (def.preferred_step && !(p_.number("dt") > 0)) step.target = def.preferred_step(step.critical);
     const std::vector<double> checkpoints =
         def.step_checkpoints ? def.step_checkpoints(step.target, step.critical) : def.checkpoints;
@@ -278,7 +286,7 @@ class TransientAnalysis final : public Analysis {
     out.unstable_time = td.instability ? td.instability->time : 0.0;
     out.cpu_seconds = r.cpu.total();
     out.cpu_loop = r.cpu.solve;
-    if (def.finish) def.finish(sim, out, m);
+    if (def.finish) def.finish(sim.state(), out, m);
     r.errors = m.errors;
     r.errors_paper = r.errors;
     td.profiles = std::move(m.profiles);

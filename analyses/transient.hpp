@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "analyses/case.hpp"
-#include "dynamics/explicit.hpp"
+#include "dynamics/dynamics_engine.hpp"
 #include "problems/transient_problem.hpp"
 
 namespace mfv {
@@ -17,8 +17,9 @@ namespace mfv {
 /// Parameters of the engine, the analysis's schema (a problem changes their defaults by
 /// Problem::analysis_defaults):
 /// frame (lagrangian|eulerian), update_every, integrator (verlet|newmark), gamma, safety,
-/// dt (0: safety × the critical step), av_alpha, av_beta (viscosity), threads, frames (VTK
-/// snapshots per run), samples (history rows per run).
+/// dt (0: safety × the critical step), av_alpha, av_beta (viscosity), threads, engine
+/// (native|petsc: dynamics/dynamics_engine.hpp), frames (VTK snapshots per run), samples
+/// (history rows per run).
 ParamSchema dynamics_schema(const std::string& default_integrator = "verlet",
                             double default_safety = 0.8);
 DynamicsOptions dynamics_options(const Params& resolved);
@@ -42,8 +43,10 @@ inline constexpr double kEnergyBound = 1e4;
 /// Stops at once, with the instability set ("unstable at step k, t = …"), at the first step
 /// whose kinetic energy, work or fields are not finite or whose kinetic energy exceeds
 /// kEnergyBound · E_in; the checkpoints after it are not reached (their values stay NaN).
-/// def.unstable may mark the run unstable without stopping it.
-void run_transient(ExplicitDynamics& sim, double dt_target, double dt_critical,
+/// def.unstable may mark the run unstable without stopping it. The problem's callbacks read
+/// sim.state(): a distributed engine gathers its fields for them (at every step only when the
+/// problem sets `unstable` or `stop`).
+void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
                    const TransientDefinition& def, const std::vector<double>& checkpoints,
                    const Params& dynamics, TransientMeasures& m, CaseResult& r);
 

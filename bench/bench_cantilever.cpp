@@ -1,24 +1,37 @@
 /// Speed of the 2D pipeline on the cantilever (001 §9.1) for each method of 001 Table 1 and
 /// fem, at about 10^3, 10^4 and 10^5 particles (17, 51 and 159 particles across the depth:
-/// 1,105, 10,251 and 100,647 particles on the boundary lattice):
+/// 1,105, 10,251 and 100,647 particles on the boundary lattice), and with
+/// MFV_BENCH_CANTILEVER_1E6=1 in the environment also at about 10^6 (501 across the depth:
+/// 1,002,501 particles; setup and assembly of fem, efg-ci, efg-ni and kbm-si only):
 ///   BM_CantileverSetup     Method::discretize: dilations, quadrature rule, neighbour search,
 ///                          shape functions / gradient tables at every integration point.
 ///   BM_CantileverAssembly  BoundaryValueProblem::assemble: stiffness matrix, load vector, constraints.
 ///   BM_CantileverSolve     solve_constrained: essential conditions, then the sparse solver.
 /// Counters: particles, qpoints (integration points), time/particle (wall time of one run
 /// divided by the particle count), unknowns and nnz of K, and for the solve the fill of the
-/// factors. Speed is measured here only: tests assert no timings.
+/// factors; peak_rss_MB is the process's peak resident memory during the benchmark (VmHWM,
+/// reset at its start), with what was already resident (the discretization) included; for the
+/// assembly, user/particle and sys/particle split its CPU time into user space and kernel
+/// (page faults). A 10^6 case whose estimated memory exceeds MemAvailable is skipped with the
+/// estimate in its error. Speed is measured here only: tests assert no timings.
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include <sys/resource.h>
+
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "problems/problem.hpp"
 #include "apps/catalogue.hpp"
 #include "bench/bench_catalogue.hpp"
 #include "analyses/static_solve.hpp"
+#include "methods/core/resources.hpp"
 #include "verify/runner.hpp"
 
 namespace {
@@ -34,7 +47,15 @@ const char* const kMethods[] = {"fem", "efg-ci", "efg-ni", "kbm-si", "kbm-ni", "
 /// Particles across the depth. The benchmark argument is the particle count of the
 /// boundary lattice, (4(ny-1)+1)·ny (Cantilever::particles), so the names read
 /// BM_CantileverSetup/fem/1105.
-const int kDepths[] = {17, 51, 159};
+const int kDepths[] = {17, 51, 159, 501};
+
+/// The 10^6 lattice takes GBs and minutes per case: registered only on request.
+constexpr int kMillionDepth = 501;
+const char* const kMillionMethods[] = {"fem", "efg-ci", "efg-ni", "kbm-si"};
+bool million_requested() {
+  const char* v = std::getenv("MFV_BENCH_CANTILEVER_1E6");
+  return v && std::string(v) != "0" && std::string(v) != "";
+}
 
 constexpr int lattice_particles(int depth) { return (4 * (depth - 1) + 1) * depth; }
 
@@ -89,8 +110,49 @@ const Discretization& discretization(const Setup& s, const char* method, int par
 const AssembledSystem& assembled(const Setup& s, const char* method, int particles) {
   const Discretization& d = discretization(s, method, particles);
   Cached& c = cached(method, particles);
-  if (!c.sys) c.sys = std::make_shared<const AssembledSystem>(s.problem->assemble(d));
+  if (!c.sys)
+    c.sys = std::shared_ptr<const AssembledSystem>(new AssembledSystem(s.problem->assemble(d)));
   return *c.sys;
+}
+
+/// Peak resident memory of the process (VmHWM of /proc/self/status) in bytes; 0 if unreadable.
+std::uint64_t peak_resident_bytes() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::strtoull(line.c_str() + 6, nullptr, 10) * 1024;
+  return 0;
+}
+
+/// Starts a new peak: writing 5 to clear_refs sets VmHWM to the current resident size
+/// (Linux >= 4.0), so each benchmark's peak is its own, not the run's so far.
+void reset_peak_resident() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+/// CPU time of the process so far (all threads), user and system (kernel: page faults).
+struct CpuTimes {
+  double user = 0, sys = 0;
+  static CpuTimes now() {
+    rusage r{};
+    getrusage(RUSAGE_SELF, &r);
+    return {r.ru_utime.tv_sec + 1e-6 * r.ru_utime.tv_usec,
+            r.ru_stime.tv_sec + 1e-6 * r.ru_stime.tv_usec};
+  }
+};
+
+/// user/particle and sys/particle: CPU seconds per iteration and particle spent in user space
+/// (the arithmetic) and in the kernel (mostly first-touch page faults of fresh allocations,
+/// which glibc hands out for every block above its mmap threshold, up to 32 MB, but recycles
+/// below it: small cases repeated in a loop do not pay them, a 10^5 or 10^6 case does).
+void set_cpu_counters(benchmark::State& state, const CpuTimes& before, double particles) {
+  const CpuTimes after = CpuTimes::now();
+  const double per = static_cast<double>(state.iterations()) * particles;
+  if (per <= 0) return;
+  state.counters["user/particle"] = (after.user - before.user) / per;
+  state.counters["sys/particle"] = (after.sys - before.sys) / per;
+}
+
+void set_peak_counter(benchmark::State& state) {
+  state.counters["peak_rss_MB"] = static_cast<double>(peak_resident_bytes()) / 1e6;
 }
 
 /// Per-particle figures from the mean wall time of one run of the timed stage. Inverted
@@ -123,11 +185,48 @@ bool guarded(benchmark::State& state, F&& body) {
   }
 }
 
+/// Estimated memory of a case at `particles` from the same method's 10^3 discretization: its
+/// table entries per particle (integration points × support size) at 28 bytes each (index,
+/// value, two gradients) for the trial and, when different, the test table, plus K (about
+/// 4 entries per coupled particle pair, 12 bytes each) and the transposed table of the
+/// assembly (8 bytes per entry), doubled: efg-ci's measured peak at 10^6 (14.2 GB) was 1.75×
+/// that sum (8.1 GB), the rest being the discretization's other arrays and the neighbour
+/// search. Supports keep their size under refinement of the lattice.
+double estimated_case_bytes(const Setup& s, int particles) {
+  const Discretization small = s.method->discretize(
+      s.domain, s.problem->particles(kDepths[0], 0.0), s.order);
+  const double n0 = small.particles.size();
+  double entries = small.trial_q.entries();
+  if (small.test_q.index != small.trial_q.index || small.test_q.grad != small.trial_q.grad)
+    entries += small.test_q.entries();
+  const AssembledSystem sys = s.problem->assemble(small);
+  const double per_particle =
+      (entries * (28.0 + 8.0) + static_cast<double>(sys.K.nonZeros()) * 12.0) / n0;
+  return 2.0 * per_particle * particles;
+}
+
+/// Skips a 10^6 case whose estimate exceeds the available memory (with the figures).
+bool fits_in_memory(benchmark::State& state, const Setup& s, int particles) {
+  if (particles < 500000) return true;
+  double need = 0;
+  // A method that fails at 10^3 reports its own error in the case itself.
+  if (!guarded(state, [&] { need = estimated_case_bytes(s, particles); })) return false;
+  const double have = static_cast<double>(available_memory_bytes());
+  if (have == 0 || need < have) return true;
+  state.SkipWithError(fmt::format("estimated {:.1f} GB (twice the tables, transposed table and K) exceed "
+                                  "the {:.1f} GB available",
+                                  need / 1e9, have / 1e9)
+                          .c_str());
+  return false;
+}
+
 void BM_CantileverSetup(benchmark::State& state, const char* method) {
   const Setup s = make_setup(method);
   const int n = static_cast<int>(state.range(0));
+  if (!fits_in_memory(state, s, n)) return;
   const ParticleSet particles = s.problem->particles(depth_of(n), 0.0);
   Discretization d;
+  reset_peak_resident();
   for (auto _ : state) {
     // The assignment frees the previous iteration's tables, as a scope exit would.
     if (!guarded(state, [&] { d = s.method->discretize(s.domain, particles, s.order); })) break;
@@ -135,6 +234,7 @@ void BM_CantileverSetup(benchmark::State& state, const char* method) {
     benchmark::ClobberMemory();
   }
   if (state.error_occurred()) return;
+  set_peak_counter(state);
   set_counters(state, d);
   Cached& c = cached(method, n);
   if (!c.d) c.d = std::make_shared<const Discretization>(std::move(d));
@@ -144,19 +244,28 @@ void BM_CantileverAssembly(benchmark::State& state, const char* method) {
   const Setup s = make_setup(method);
   const int n = static_cast<int>(state.range(0));
   const Discretization* d = nullptr;
+  if (!fits_in_memory(state, s, n)) return;
   // An error before the loop skips the benchmark (the library then does not run it).
   if (!guarded(state, [&] { d = &discretization(s, method, n); })) return;
-  AssembledSystem sys;
+  // Built in place (new T(prvalue) elides the copy): Eigen 3.4's SparseMatrix has no move
+  // assignment, so `sys = assemble(d)` would time a deep copy of K on top of the assembly.
+  std::unique_ptr<AssembledSystem> sys;
+  reset_peak_resident();
+  const CpuTimes cpu = CpuTimes::now();
   for (auto _ : state) {
-    if (!guarded(state, [&] { sys = s.problem->assemble(*d); })) break;
-    benchmark::DoNotOptimize(sys.K.valuePtr());
+    // The previous iteration's system is freed first, as a scope exit would.
+    sys.reset();
+    if (!guarded(state, [&] { sys.reset(new AssembledSystem(s.problem->assemble(*d))); })) break;
+    benchmark::DoNotOptimize(sys->K.valuePtr());
     benchmark::ClobberMemory();
   }
   if (state.error_occurred()) return;
+  set_cpu_counters(state, cpu, d->particles.size());
+  set_peak_counter(state);
   set_counters(state, *d);
-  set_system_counters(state, sys);
+  set_system_counters(state, *sys);
   Cached& c = cached(method, n);
-  if (!c.sys) c.sys = std::make_shared<const AssembledSystem>(std::move(sys));
+  if (!c.sys) c.sys = std::shared_ptr<const AssembledSystem>(std::move(sys));
 }
 
 void BM_CantileverSolve(benchmark::State& state, const char* method) {
@@ -170,6 +279,7 @@ void BM_CantileverSolve(benchmark::State& state, const char* method) {
       }))
     return;
   SolveInfo info;
+  reset_peak_resident();
   for (auto _ : state) {
     Eigen::VectorXd u;
     if (!guarded(state, [&] { u = solve_constrained(*sys, *d, info, nullptr, "auto"); })) break;
@@ -177,6 +287,7 @@ void BM_CantileverSolve(benchmark::State& state, const char* method) {
     benchmark::ClobberMemory();
   }
   if (state.error_occurred()) return;
+  set_peak_counter(state);
   set_counters(state, *d);
   set_system_counters(state, *sys);
   state.counters["fill"] = static_cast<double>(info.fill);
@@ -204,6 +315,16 @@ void add(const char* family, BenchFn fn, const char* method, int depth) {
 bool register_cantilever_benchmarks() {
   for (const char* method : kMethods)
     for (int depth : kDepths) {
+      if (depth == kMillionDepth) {
+        if (!million_requested()) continue;
+        bool listed = false;
+        for (const char* m : kMillionMethods) listed = listed || std::string(m) == method;
+        if (!listed) continue;
+        // No solve: UMFPACK's factors at 10^6 would pass the machine's memory.
+        add("BM_CantileverSetup", BM_CantileverSetup, method, depth);
+        add("BM_CantileverAssembly", BM_CantileverAssembly, method, depth);
+        continue;
+      }
       add("BM_CantileverSetup", BM_CantileverSetup, method, depth);
       add("BM_CantileverAssembly", BM_CantileverAssembly, method, depth);
       // The meshfree systems at 10^5 particles (27 M non-zeros of K) are not solved: the

@@ -219,6 +219,9 @@ class ExplicitDynamics {
   Eigen::MatrixXd positions_of(const std::vector<int>& particles) const;
 
  private:
+  /// The PETSc engine (dynamics/petsc_dynamics.hpp) starts from this engine's initial state
+  /// and gathers its distributed fields into it for the problems' callbacks.
+  friend class PetscDynamics;
   void build_force_tables();
   /// The tables the force loops read: the discretization's, or their renumbered copies.
   const ShapeTable& trial_table() const;

@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libnanoflann-dev libcli11-dev libtomlplusplus-dev libfmt-dev nlohmann-json3-dev
   voro++-dev libsuitesparse-dev libspectra-dev
+  petsc-dev openmpi-bin
   gnuplot-nox
   python3-jsonschema
 )
