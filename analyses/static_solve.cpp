@@ -171,6 +171,8 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
     }
     const PetscSolveSetup setup = petsc_setup(sys, d, solver, d.form == Form::galerkin);
     PetscSolver ps(A, setup);
+    // PETSc holds its own copy: the Eigen one is kept only for the condition diagnostic.
+    if (!solved || n > kMaxConditionSize) A = Eigen::SparseMatrix<double>();
     // The residual of the multiplier system as solve_sparse sees it (constraint rows scaled
     // by the largest diagonal, s): ‖(f − K u − Gt λ, s (g − Gᵀ u))‖ / ‖(f, s g)‖.
     const double sc = kmax > 0 ? kmax : 1.0;
@@ -204,7 +206,7 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
           "relative residual {:.2e} after {} updates (ksp_rtol {:.1e}). Try bc=penalty, a "
           "looser ksp_rtol, or solver=direct",
           info.solver, n, kkt, updates, solver.ksp_rtol));
-    if (solved) *solved = std::move(A);
+    if (solved && A.rows() > 0) *solved = std::move(A);
     return u;
   }
   if (!petsc && (d.essential == EssentialBC::lagrange || d.particle_values)) {
@@ -234,9 +236,12 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
     // bc=penalty: the method's own penalty system (β = its penalty × the largest diagonal).
     // Galerkin forms with the symmetric G Gᵀ are symmetric positive definite.
     const PetscSolveSetup setup = petsc_setup(sys, d, solver, d.form == Form::galerkin);
-    Eigen::VectorXd x = petsc_solve(A, b, setup, info);
+    PetscSolver ps(A, setup);
+    if (!solved || n > kMaxConditionSize) A = Eigen::SparseMatrix<double>();
+    info.iterations = 0;
+    Eigen::VectorXd x = ps.solve(b, info);
     info.solver += fmt::format(" (penalty β = {:g} × the largest diagonal)", d.penalty);
-    if (solved) *solved = std::move(A);
+    if (solved && A.rows() > 0) *solved = std::move(A);
     return x;
   }
   Eigen::VectorXd x = solve_sparse(A, b, solver.kind, info);
