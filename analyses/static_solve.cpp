@@ -198,8 +198,8 @@ Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretizati
     info.residual = kkt;
     info.solver += fmt::format(
         " (Lagrange multipliers by augmented Lagrangian: K + β G Gᵀ, β = {:g} × the largest "
-        "diagonal, {} multiplier updates)",
-        kAugmentedPenalty, updates + 1);
+        "diagonal, {} multiplier update{})",
+        kAugmentedPenalty, updates + 1, updates == 0 ? "" : "s");
     if (!(kkt <= solver.ksp_rtol * 10))
       throw SingularError(fmt::format(
           "{}: the multiplier iterations did not converge on the global system ({} unknowns): "
