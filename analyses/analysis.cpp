@@ -15,6 +15,13 @@ std::set<std::string> keys_of(const ParamSchema& schema) {
   return keys;
 }
 
+/// The names a schema answers to: its parameters' and their deprecated aliases.
+std::set<std::string> names_of(const ParamSchema& schema) {
+  std::set<std::string> names = keys_of(schema);
+  for (const auto& s : schema) names.insert(s.aliases.begin(), s.aliases.end());
+  return names;
+}
+
 /// resolve_case without the method: the split of the given parameters between the problem
 /// and its analysis, each resolved.
 ResolvedCase resolve_problem_and_analysis(const Registries& plugins, const std::string& name,
@@ -66,8 +73,45 @@ std::unique_ptr<Problem> create_problem(const Registries& plugins, const std::st
 ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec) {
   ResolvedCase rc =
       resolve_problem_and_analysis(plugins, spec.problem, spec.problem_params, spec.analysis);
-  rc.method_params = plugins.methods.resolve(spec.method, spec.method_params);
+  // `mfv run … -p solver=petsc`: a method parameter the method does not declare but the
+  // analysis does is the analysis's (a key both declare stays the method's).
+  const ParamSchema& method_schema = plugins.methods.entry(spec.method).schema;
+  const std::set<std::string> method_names = names_of(method_schema);
+  const std::set<std::string> analysis_keys = keys_of(plugins.analyses.entry(rc.analysis).schema);
+  bool routed = false;
+  for (const auto& [k, v] : spec.method_params.values()) {
+    if (method_names.count(k)) {
+      rc.method_given.set(k, v);
+      continue;
+    }
+    if (!analysis_keys.count(k))
+      throw InputError(fmt::format(
+          "unknown parameter '{}' of method '{}' (analysis '{}'); the method's: {}; the "
+          "analysis's: {}",
+          k, spec.method, rc.analysis, fmt::join(keys_of(method_schema), ", "),
+          analysis_keys.empty() ? std::string("none")
+                                : fmt::format("{}", fmt::join(analysis_keys, ", "))));
+    if (spec.problem_params.has(k) &&
+        format_value(spec.problem_params.values().at(k)) != format_value(v))
+      throw InputError(fmt::format(
+          "parameter '{}' of analysis '{}' is given twice, {} in the method's parameters and "
+          "{} in the problem's: give it once",
+          k, rc.analysis, format_value(v), format_value(spec.problem_params.values().at(k))));
+    rc.analysis_given.set(k, v);
+    routed = true;
+  }
+  if (routed) rc.analysis_params = plugins.analyses.resolve(rc.analysis, rc.analysis_given);
+  rc.method_params = plugins.methods.resolve(spec.method, rc.method_given);
   return rc;
+}
+
+CaseSpec routed_spec(const Registries& plugins, const CaseSpec& spec) {
+  const ResolvedCase rc = resolve_case(plugins, spec);
+  CaseSpec out = spec;
+  out.method_params = rc.method_given;
+  for (const auto& [k, v] : spec.method_params.values())
+    if (!rc.method_given.has(k)) out.problem_params.set(k, v);
+  return out;
 }
 
 std::string analysis_of(const Registries& plugins, const CaseResult& r) {

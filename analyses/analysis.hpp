@@ -103,15 +103,24 @@ class Analysis {
 /// A case's parameters resolved once, for every consumer: the analysis (spec.analysis, or
 /// the problem's default), the problem's own parameters and the analysis's (the keys of
 /// spec.problem_params the problem does not declare go to the analysis; the problem's
-/// analysis_defaults come under them), each resolved against its schema.
+/// analysis_defaults come under them), each resolved against its schema. A key of
+/// spec.method_params the method does not declare but the analysis does goes to the analysis
+/// too (`mfv run cantilever -m efg-ni -p solver=petsc`); one both declare stays the method's.
 struct ResolvedCase {
   std::string analysis;
-  Params problem_given, analysis_given;  ///< spec.problem_params split
+  Params problem_given, analysis_given;  ///< spec.problem_params split (+ routed method keys)
+  Params method_given;                   ///< spec.method_params the method declares
   Params problem_params, analysis_params, method_params;  ///< resolved
 };
 /// Throws InputError naming the parameter and what is valid (the problem's and the
-/// analysis's keys; the problem's analyses).
+/// analysis's keys, or the method's and the analysis's; the problem's analyses), and when an
+/// analysis key comes with two values (method and problem parameters).
 ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec);
+
+/// `spec` with the analysis keys of its method parameters moved to its problem parameters
+/// (where an analysis's keys are given), so that every later consumer reads the method's
+/// own parameters only. Throws as resolve_case.
+CaseSpec routed_spec(const Registries& plugins, const CaseSpec& spec);
 
 /// The analysis that ran `r`: its own record, or for a case built by hand (no record) the
 /// problem's default.

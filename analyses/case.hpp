@@ -37,6 +37,9 @@ struct SolveInfo {
   long fill = 0;          ///< nonzeros of the L and U factors (direct solves)
   double rcond = NAN;     ///< UMFPACK's reciprocal condition estimate (any size; cheap)
   int iterations = 0;     ///< iterative solves
+  /// Iterative solves that report it (PETSc): why the iteration stopped, e.g.
+  /// "CONVERGED_RTOL" (KSPConvergedReasons); empty otherwise.
+  std::string converged;
   double residual = 0;    ///< ‖A x - b‖ / ‖b‖
   /// 2-norm condition number of the solved matrix, set by run_case outside the timed solve
   /// (dense SVD, systems up to kMaxConditionSize unknowns; NaN above). Wide Gaussian windows
@@ -52,7 +55,6 @@ struct CaseSpec {
   Params method_params;  ///< as given (unresolved); the resolved set is in CaseResult
   int nodes = 0;
   double perturbation = 0;  ///< random particle offsets, fraction of the spacing
-  std::string solver = "auto";  ///< see kSolverChoices (analyses/solver.hpp)
   /// The analysis that runs the case (analyses/analysis.hpp); empty: the problem's default,
   /// the first of Problem::analyses().
   std::string analysis;

@@ -1,10 +1,13 @@
 #include "analyses/solver.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <memory>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <umfpack.h>
 
 #include "methods/core/errors.hpp"
@@ -81,6 +84,23 @@ Eigen::VectorXd iterative_solve(const Eigen::SparseMatrix<double>& A, const Eige
 }
 
 }  // namespace
+
+void check_solver_choice(const SolverChoice& choice) {
+  if (std::find(std::begin(kSolverChoices), std::end(kSolverChoices), choice.kind) ==
+      std::end(kSolverChoices))
+    throw InputError(fmt::format("unknown solver '{}'; valid: {}", choice.kind,
+                                 fmt::join(kSolverChoices, ", ")));
+  if (!(choice.ksp_rtol > 0 && choice.ksp_rtol < 1))
+    throw InputError(fmt::format(
+        "ksp_rtol = {} must lie in (0, 1): it is the Krylov solve's relative tolerance on "
+        "‖b − A x‖/‖b‖; e.g. ksp_rtol=1e-10",
+        choice.ksp_rtol));
+  if (!choice.petsc_options.empty() && choice.kind != "petsc")
+    throw InputError(fmt::format(
+        "petsc_options '{}' is given with solver={}, which does not use PETSc: add "
+        "solver=petsc or leave petsc_options out",
+        choice.petsc_options, choice.kind));
+}
 
 Eigen::VectorXd solve_sparse(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b,
                              const std::string& kind, SolveInfo& info) {

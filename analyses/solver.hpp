@@ -10,8 +10,25 @@
 namespace mfv {
 
 /// "auto": UMFPACK, falling back to BiCGSTAB+ILUT if the factorization runs out of memory or
-/// fails for a reason other than singularity; "direct": UMFPACK only; "iterative": BiCGSTAB.
-inline const char* const kSolverChoices[] = {"auto", "direct", "iterative"};
+/// fails for a reason other than singularity; "direct": UMFPACK only; "iterative": BiCGSTAB;
+/// "petsc": PETSc's CG or GMRES with algebraic multigrid (analyses/petsc_solver.hpp), the
+/// essential conditions by penalty or elimination (solve_constrained).
+inline const char* const kSolverChoices[] = {"auto", "direct", "iterative", "petsc"};
+
+/// The linear solver of a static solve: the static-solve analysis's parameters `solver`,
+/// `ksp_rtol` and `petsc_options`.
+struct SolverChoice {
+  std::string kind = "auto";  ///< one of kSolverChoices
+  /// solver=petsc: relative tolerance of the Krylov solve on the true residual ‖b − A x‖/‖b‖.
+  double ksp_rtol = 1e-10;
+  /// solver=petsc: PETSc options ("-ksp_type gmres -pc_type hypre"), read after the defaults
+  /// and after the PETSC_OPTIONS environment variable, so they override both.
+  std::string petsc_options;
+};
+
+/// Throws InputError naming the parameter and what is valid: an unknown kind, ksp_rtol
+/// outside (0, 1) or NaN, petsc_options with a solver other than petsc.
+void check_solver_choice(const SolverChoice& choice);
 
 /// Solves A x = b. Fills info.solver, unknowns, nonzeros, fill, rcond, iterations, residual.
 /// Throws SingularError with the cause (and what to change) for a singular or numerically

@@ -7,6 +7,7 @@
 #include <Eigen/Sparse>
 
 #include "analyses/case.hpp"
+#include "analyses/solver.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -16,9 +17,15 @@ namespace mfv {
 /// solve_sparse (UMFPACK, iterative fallback); fills `info` except `condition`. Throws
 /// SingularError with the cause when the system cannot be factorized or the solution is not
 /// finite. When `solved` is given it receives the factorized matrix (for condition_number).
+///
+/// solver.kind == "petsc" (petsc_solve): multipliers would make a saddle point, which CG and
+/// AMG cannot take, so the conditions of MLS-type methods are imposed by penalty whatever
+/// the method's `bc` (K + β G Gᵀ, β = penalty × the largest diagonal of K, as bc=penalty;
+/// the solution differs from the multiplier one by O(1/β)), and the fixed particle values of
+/// SPH/RLM are eliminated (MatZeroRowsColumns). The solver line says which.
 Eigen::VectorXd solve_constrained(const AssembledSystem& sys, const Discretization& d,
                                   SolveInfo& info, Eigen::SparseMatrix<double>* solved = nullptr,
-                                  const std::string& solver = "auto");
+                                  const SolverChoice& solver = {});
 
 /// 2-norm condition number by dense SVD for up to kMaxConditionSize rows; NaN above, inf
 /// when the smallest singular value is zero.

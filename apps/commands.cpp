@@ -400,7 +400,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
     auto [name, params] = split_method_spec(m);
     s.method = name;
     s.method_params = Params::parse(params);
-    c.methods.resolve(s.method, s.method_params);
+    resolve_case(c, s);  // method keys the analysis declares (solver=petsc) are routed there
     specs.push_back(s);
   }
 

@@ -11,6 +11,7 @@
 #include "apps/commands.hpp"
 #include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
+#include "methods/core/petsc_session.hpp"
 
 namespace {
 
@@ -40,6 +41,23 @@ CLI::Validator finite_in(double lo, double hi, bool hi_open, const std::string& 
 int main(int argc, char** argv) {
   // First, before any thread exists: an interrupted run removes its staging directory.
   mfv::install_staging_cleanup();
+  // Under mpirun every rank runs the whole command (set-up and assembly are replicated; the
+  // PETSc solves are distributed), so MPI starts first and rank 0 alone prints to stdout and
+  // writes files; every rank reports its errors on stderr, naming itself.
+  const bool mpi = mfv::petsc::launched_by_mpirun();
+  if (mpi) {
+    try {
+      mfv::petsc::ensure_initialized();
+    } catch (const std::exception& e) {
+      std::cerr << "mfv: error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  const int rank = mfv::petsc::rank();
+  std::ostream quiet(nullptr);
+  std::ostream& out = rank == 0 ? std::cout : quiet;
+  std::ostream& err_progress = rank == 0 ? std::cerr : quiet;
+  const std::string who = mpi ? fmt::format("mfv (rank {})", rank) : std::string("mfv");
   CLI::App app{"mfv: verification suite for meshfree particle methods"};
   app.require_subcommand(1);
 
@@ -192,11 +210,21 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
+  if (rank > 0) {
+    run.vtk.clear();
+    ana.no_report = dis.no_report = ver.no_report = true;
+    ana.report.clear();
+    dis.report.clear();
+    ver.report.clear();
+    ver.update_baseline = false;
+    cmp.report.clear();
+  }
   try {
     const mfv::Catalogue catalogue;
-    if (*list) mfv::command_list(catalogue, std::cout);
-    if (*cmd_run) return mfv::command_run(catalogue, run, std::cout);
-    if (*cmd_analyse) return mfv::command_analyse(catalogue, ana, std::cout);
+    if (*list) mfv::command_list(catalogue, out);
+    if (*cmd_ctest && rank > 0) return 0;
+    if (*cmd_run) return mfv::command_run(catalogue, run, out);
+    if (*cmd_analyse) return mfv::command_analyse(catalogue, ana, out);
     if (*cmd_dispersion) {
       dis.problem = "dispersion";
       std::string colon_angles = angles;
@@ -206,26 +234,26 @@ int main(int argc, char** argv) {
       if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
       if (!stress.empty()) dis.problem_params += ",stress=" + stress;
       if (map) dis.problem_params += ",map=sigma-kappa";
-      return mfv::command_analyse(catalogue, dis, std::cout);
+      return mfv::command_analyse(catalogue, dis, out);
     }
     if (*cmd_study) {
       cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};
-      return mfv::command_compare(catalogue, cmp, std::cout, std::cerr);
+      return mfv::command_compare(catalogue, cmp, out, err_progress);
     }
-    if (*cmd_compare) return mfv::command_compare(catalogue, cmp, std::cout, std::cerr);
-    if (*cmd_verify) return mfv::command_verify(catalogue, ver, std::cout, std::cerr);
+    if (*cmd_compare) return mfv::command_compare(catalogue, cmp, out, err_progress);
+    if (*cmd_verify) return mfv::command_verify(catalogue, ver, out, err_progress);
     if (*cmd_ctest) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
   } catch (const mfv::InputError& e) {
-    std::cerr << "mfv: input error: " << e.what() << "\n";
+    std::cerr << who << ": input error: " << e.what() << "\n";
     return 2;
   } catch (const std::bad_alloc&) {
-    std::cerr << "mfv: error: out of memory; lower --nodes or free memory\n";
+    std::cerr << who << ": error: out of memory; lower --nodes or free memory\n";
     return 1;
   } catch (const mfv::SingularError& e) {
-    std::cerr << "mfv: singular: " << e.what() << "\n";
+    std::cerr << who << ": singular: " << e.what() << "\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "mfv: error: " << e.what() << "\n";
+    std::cerr << who << ": error: " << e.what() << "\n";
     return 1;
   }
   return 0;

@@ -282,7 +282,7 @@ void BM_CantileverSolve(benchmark::State& state, const char* method) {
   reset_peak_resident();
   for (auto _ : state) {
     Eigen::VectorXd u;
-    if (!guarded(state, [&] { u = solve_constrained(*sys, *d, info, nullptr, "auto"); })) break;
+    if (!guarded(state, [&] { u = solve_constrained(*sys, *d, info); })) break;
     benchmark::DoNotOptimize(u.data());
     benchmark::ClobberMemory();
   }

@@ -188,7 +188,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(SparseSolver, IterativeAgreesWithDirect) {
   CaseSpec spec{"cantilever", {}, "efg-ci", Params::parse("bc=penalty"), 5, 0};
   const CaseResult direct = run_case(test_catalogue(), spec);
-  spec.solver = "iterative";
+  spec.problem_params.set("solver", "iterative");
   const CaseResult it = run_case(test_catalogue(), spec);
   EXPECT_NE(it.data<StaticSolveData>().solve.solver.find("BiCGSTAB"), std::string::npos) << it.data<StaticSolveData>().solve.solver;
   EXPECT_GT(direct.data<StaticSolveData>().solve.fill, direct.data<StaticSolveData>().solve.nonzeros / 2);

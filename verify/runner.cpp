@@ -17,15 +17,16 @@ std::string study_label(const CaseSpec& spec) {
 
 CaseResult run_case(const Registries& plugins, const CaseSpec& spec) {
   CaseResult r;
-  r.spec = spec;
-  const ResolvedCase rc = resolve_case(plugins, spec);
+  // Analysis keys given among the method's parameters (-p solver=petsc) move to the problem's.
+  r.spec = routed_spec(plugins, spec);
+  const ResolvedCase rc = resolve_case(plugins, r.spec);
   r.analysis = rc.analysis;
   r.problem_params = rc.problem_params;
   r.analysis_params = rc.analysis_params;
   r.method_params = rc.method_params;
   const auto problem = plugins.problems.create(spec.problem, rc.problem_given);
   const auto analysis = plugins.analyses.create(rc.analysis, rc.analysis_given);
-  const auto method = plugins.methods.create(spec.method, spec.method_params);
+  const auto method = plugins.methods.create(r.spec.method, r.spec.method_params);
   analysis->run(AnalysisContext{plugins, *problem, r.spec, *method}, r);
   return r;
 }
