@@ -21,6 +21,8 @@ cmake --build build/sanitize --target "${targets[@]}"
 export OMP_NUM_THREADS=1
 export ASAN_OPTIONS="abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+# PETSc/MPI tests initialize Open MPI, whose process-lifetime allocations are not mfv's.
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp"
 # The default-suite cases are regression tests; `-L unit` keeps to the unit and command tests.
 # The examples (label unit;example) are not built here, so they are excluded by name.
 ctest --test-dir build/sanitize -L unit -E '^example/' --output-on-failure -j 2 "$@"
