@@ -1,4 +1,5 @@
 #include "dynamics/explicit.hpp"
+#include "dynamics/small_matrix.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -70,29 +71,10 @@ struct PointKernel {
       for (int e = 0; e < D * D; ++e) L[e] = H[e] / dt;
   }
 
-  static void multiply(const double* A, const double* B, double* C) {
-    for (int j = 0; j < D; ++j)
-      for (int i = 0; i < D; ++i) {
-        double s = 0;
-        for (int k = 0; k < D; ++k) s += A[i + D * k] * B[k + D * j];
-        C[i + D * j] = s;
-      }
-  }
-  static double det(const double* F) {
-    if constexpr (D == 1) return F[0];
-    else return F[0] * F[3] - F[1] * F[2];
-  }
-  static void invert(const double* F, double* Fi) {
-    if constexpr (D == 1) {
-      Fi[0] = 1 / F[0];
-    } else {
-      const double J = det(F);
-      Fi[0] = F[3] / J;
-      Fi[1] = -F[1] / J;
-      Fi[2] = -F[2] / J;
-      Fi[3] = F[0] / J;
-    }
-  }
+  // The small dense algebra shared with the PETSc engine (dynamics/small_matrix.hpp).
+  static constexpr auto multiply = &SmallMatrix<D>::multiply;
+  static constexpr auto det = &SmallMatrix<D>::det;
+  static constexpr auto invert = &SmallMatrix<D>::invert;
 
   /// P → the summed stress: P (+ F S₀ + viscosity) in the Lagrangian frame, τ = P Fᵀ in the
   /// Eulerian one (the reference weight times τ is the current weight times σ).

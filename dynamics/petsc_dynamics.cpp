@@ -1,4 +1,5 @@
 #include "dynamics/petsc_dynamics.hpp"
+#include "dynamics/small_matrix.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -148,33 +149,6 @@ long local_nonzeros(Mat G) {
   return static_cast<long>(info.nz_used);
 }
 
-/// The small dense algebra of the native engine's point kernel (column-major D × D).
-template <int D>
-struct Small {
-  static void multiply(const double* A, const double* B, double* C) {
-    for (int j = 0; j < D; ++j)
-      for (int i = 0; i < D; ++i) {
-        double s = 0;
-        for (int k = 0; k < D; ++k) s += A[i + D * k] * B[k + D * j];
-        C[i + D * j] = s;
-      }
-  }
-  static double det(const double* F) {
-    if constexpr (D == 1) return F[0];
-    else return F[0] * F[3] - F[1] * F[2];
-  }
-  static void invert(const double* F, double* Fi) {
-    if constexpr (D == 1) {
-      Fi[0] = 1 / F[0];
-    } else {
-      const double J = det(F);
-      Fi[0] = F[3] / J;
-      Fi[1] = -F[1] / J;
-      Fi[2] = -F[2] / J;
-      Fi[3] = F[0] / J;
-    }
-  }
-};
 
 /// A vector's owned entries for reading or writing (VecGetArray/VecRestoreArray in scope).
 class Local {
@@ -274,17 +248,17 @@ void PetscDynamics::Impl::points_stress(double dt, bool viscosity) {
     double* Pq = S.data() + DD * q;
     if (S0) {
       double FS[DD];
-      Small<D>::multiply(Fq, S0, FS);
+      SmallMatrix<D>::multiply(Fq, S0, FS);
       for (int e = 0; e < DD; ++e) Pq[e] += FS[e];
     }
     if (!viscosity) continue;
     double Fdot[DD], Fi[DD], L[DD];
     for (int e = 0; e < DD; ++e) Fdot[e] = Fd[DD * q + e] / dt;
-    Small<D>::invert(Fq, Fi);
-    Small<D>::multiply(Fdot, Fi, L);
+    SmallMatrix<D>::invert(Fq, Fi);
+    SmallMatrix<D>::multiply(Fdot, Fi, L);
     double div = 0;
     for (int i = 0; i < D; ++i) div += L[i + D * i];
-    const double J = Small<D>::det(Fq);
+    const double J = SmallMatrix<D>::det(Fq);
     if (!(div < 0)) continue;
     const double qv = model.density / J *
                       (beta * spacing * spacing * div * div - alpha * wave_speed * spacing * div);
