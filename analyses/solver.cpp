@@ -100,6 +100,14 @@ void check_solver_choice(const SolverChoice& choice) {
         "petsc_options '{}' is given with solver={}, which does not use PETSc: add "
         "solver=petsc or leave petsc_options out",
         choice.petsc_options, choice.kind));
+  // PETSc's option parser skips a leading word that is not an option name without a word,
+  // so a typo such as "ksp_type cg" would be ignored: the text must open with "-name".
+  const auto first = choice.petsc_options.find_first_not_of(" \t");
+  if (first != std::string::npos && choice.petsc_options[first] != '-')
+    throw InputError(fmt::format(
+        "petsc_options '{}' must start with an option name such as -ksp_type (PETSc's command "
+        "line: '-ksp_type gmres -ksp_rtol 1e-10')",
+        choice.petsc_options));
 }
 
 Eigen::VectorXd solve_sparse(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b,

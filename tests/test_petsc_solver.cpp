@@ -122,6 +122,7 @@ TEST(PetscSolver, RefusesBadParameters) {
   EXPECT_THROW(run_case(catalogue(), nan), InputError);
   expect_refused("solver=direct,petsc_options=-ksp_type gmres", "petsc_options");
   expect_refused("petsc_options=-ksp_type gmres", "petsc_options");
+  expect_refused("solver=petsc,petsc_options=ksp_type gmres", "must start with an option name");
   expect_refused("solver=cholesky", "solver");
 }
 
