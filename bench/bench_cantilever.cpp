@@ -30,6 +30,7 @@
 #include "problems/problem.hpp"
 #include "apps/catalogue.hpp"
 #include "bench/bench_catalogue.hpp"
+#include "bench/bench_memory.hpp"
 #include "analyses/static_solve.hpp"
 #include "methods/core/resources.hpp"
 #include "verify/runner.hpp"
@@ -115,19 +116,6 @@ const AssembledSystem& assembled(const Setup& s, const char* method, int particl
   return *c.sys;
 }
 
-/// Peak resident memory of the process (VmHWM of /proc/self/status) in bytes; 0 if unreadable.
-std::uint64_t peak_resident_bytes() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtoull(line.c_str() + 6, nullptr, 10) * 1024;
-  return 0;
-}
-
-/// Starts a new peak: writing 5 to clear_refs sets VmHWM to the current resident size
-/// (Linux >= 4.0), so each benchmark's peak is its own, not the run's so far.
-void reset_peak_resident() { std::ofstream("/proc/self/clear_refs") << "5"; }
-
 /// CPU time of the process so far (all threads), user and system (kernel: page faults).
 struct CpuTimes {
   double user = 0, sys = 0;
@@ -152,7 +140,7 @@ void set_cpu_counters(benchmark::State& state, const CpuTimes& before, double pa
 }
 
 void set_peak_counter(benchmark::State& state) {
-  state.counters["peak_rss_MB"] = static_cast<double>(peak_resident_bytes()) / 1e6;
+  state.counters["peak_rss_MB"] = static_cast<double>(bench::peak_resident_bytes()) / 1e6;
 }
 
 /// Per-particle figures from the mean wall time of one run of the timed stage. Inverted
@@ -226,7 +214,7 @@ void BM_CantileverSetup(benchmark::State& state, const char* method) {
   if (!fits_in_memory(state, s, n)) return;
   const ParticleSet particles = s.problem->particles(depth_of(n), 0.0);
   Discretization d;
-  reset_peak_resident();
+  bench::reset_peak_resident();
   for (auto _ : state) {
     // The assignment frees the previous iteration's tables, as a scope exit would.
     if (!guarded(state, [&] { d = s.method->discretize(s.domain, particles, s.order); })) break;
@@ -250,7 +238,7 @@ void BM_CantileverAssembly(benchmark::State& state, const char* method) {
   // Built in place (new T(prvalue) elides the copy): Eigen 3.4's SparseMatrix has no move
   // assignment, so `sys = assemble(d)` would time a deep copy of K on top of the assembly.
   std::unique_ptr<AssembledSystem> sys;
-  reset_peak_resident();
+  bench::reset_peak_resident();
   const CpuTimes cpu = CpuTimes::now();
   for (auto _ : state) {
     // The previous iteration's system is freed first, as a scope exit would.
@@ -279,7 +267,7 @@ void BM_CantileverSolve(benchmark::State& state, const char* method) {
       }))
     return;
   SolveInfo info;
-  reset_peak_resident();
+  bench::reset_peak_resident();
   for (auto _ : state) {
     Eigen::VectorXd u;
     if (!guarded(state, [&] { u = solve_constrained(*sys, *d, info); })) break;

@@ -62,6 +62,7 @@
 #include "methods/particles.hpp"
 #include "apps/catalogue.hpp"
 #include "bench/bench_catalogue.hpp"
+#include "bench/bench_memory.hpp"
 
 namespace {
 
@@ -122,14 +123,6 @@ ParticleSet shuffled(const ParticleSet& p, std::uint64_t seed) {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-double resident_gb() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / (1024.0 * 1024.0);
-  return 0;
 }
 
 /// The rod's material: "svk" (St Venant–Kirchhoff), or "j2vp" (j2-viscoplastic, Needleman
@@ -280,7 +273,7 @@ void run(benchmark::State& state, const std::string& method, bool random_order, 
   state.counters["setup_s"] = c.setup_seconds;
   state.counters["engine_s"] = c.engine_seconds;
   state.counters["fit_s"] = c.fit_seconds;
-  state.counters["rss_GB"] = resident_gb();
+  state.counters["rss_GB"] = bench::resident_gb();
 }
 
 void BM_Dynamics(benchmark::State& state, const char* method) {

@@ -24,6 +24,7 @@
 
 #include "analyses/static_solve.hpp"
 #include "bench/bench_catalogue.hpp"
+#include "bench/bench_memory.hpp"
 #include "methods/core/petsc_session.hpp"
 
 namespace {
@@ -34,23 +35,6 @@ using bench::catalogue;
 const char* const kMethods[] = {"fem", "efg-ni", "efg-ci", "kbm-si"};
 
 constexpr int lattice_particles(int depth) { return (4 * (depth - 1) + 1) * depth; }
-
-/// The peak resident memory of this process in GB (Linux VmHWM), and its reset
-/// (/proc/self/clear_refs, "5"), so that each case reports its own peak.
-double peak_rss_gb() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kb = 0;
-      status >> kb;
-      return kb / (1024.0 * 1024.0);
-    }
-    std::getline(status, key);
-  }
-  return 0;
-}
-void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
 /// One case's discretization and system, kept while its solvers run (one case at a time: a
 /// 10^6 meshfree system takes GBs).
@@ -83,7 +67,7 @@ void BM_StaticSolve(benchmark::State& state, const char* method, int depth, cons
     state.SkipWithError(e.what());
     return;
   }
-  reset_peak_rss();
+  bench::reset_peak_resident();
   SolverChoice choice;
   choice.kind = solver;
   for (auto _ : state) {
@@ -101,7 +85,7 @@ void BM_StaticSolve(benchmark::State& state, const char* method, int depth, cons
   state.counters["nnz"] = static_cast<double>(c->sys->K.nonZeros());
   state.counters["iterations"] = info.iterations;
   state.counters["residual"] = info.residual;
-  state.counters["peak_rss_GB"] = peak_rss_gb();
+  state.counters["peak_rss_GB"] = bench::peak_resident_gb();
   state.counters["ranks"] = petsc::size();
   state.SetLabel(info.solver);
 }

@@ -38,6 +38,7 @@
 
 #include "apps/catalogue.hpp"
 #include "bench/bench_catalogue.hpp"
+#include "bench/bench_memory.hpp"
 #include "dynamics/petsc_dynamics.hpp"
 #include "methods/core/petsc_session.hpp"
 #include "methods/particles.hpp"
@@ -86,14 +87,6 @@ double critical_ratio(const std::string& method) {
   opt.threads = 1;
   ExplicitDynamics sim(*m, m->discretize(rod(), p, 1), rod_model(p), opt);
   return sim.critical_time_step() / (p.spacing / std::sqrt(kYoung / kDensity));
-}
-
-double resident_gb() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / (1024.0 * 1024.0);
-  return 0;
 }
 
 double now() {
@@ -159,7 +152,7 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "the run blew up\n");
     return 1;
   }
-  double rss = resident_gb(), rss_max = rss, rss_sum = rss;
+  double rss = bench::resident_gb(), rss_max = rss, rss_sum = rss;
   std::string halo = "null";
   if (distributed) {
     MPI_Allreduce(&rss, &rss_max, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
