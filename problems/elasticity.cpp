@@ -11,7 +11,7 @@
 ///     B_J = [∂x N_J, 0; 0, ∂y N_J; ∂y N_J, ∂x N_J], accumulated in a dense workspace by the
 ///     sorted position of I, then written to columns 2J and 2J+1.
 /// Each column is computed by one thread in a fixed order, so K is the same on any thread
-/// count (OpenMP over particles). The particles are visited along a Morton (Z-order) curve of
+/// count (OpenMP over particles). The particles are visited along a Hilbert curve of
 /// their positions, not in index order: consecutive columns then read the table rows of one
 /// small neighbourhood, which stays in cache, where a lattice numbered row by row would sweep
 /// several whole rows of the lattice per column (megabytes beyond 10^4 particles; measured:
@@ -29,6 +29,7 @@
 
 #include "methods/core/errors.hpp"
 #include "methods/core/parallel.hpp"
+#include "methods/ordering.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -44,45 +45,14 @@ void check_gradient_table(const ShapeTable& t, int points, const char* which) {
                                        which, t.points(), points));
 }
 
-/// Spreads the 16 low bits of v to the even bits of the result (Morton interleaving).
-std::uint32_t spread_bits(std::uint32_t v) {
-  v &= 0xffffu;
-  v = (v | (v << 8)) & 0x00ff00ffu;
-  v = (v | (v << 4)) & 0x0f0f0f0fu;
-  v = (v | (v << 2)) & 0x33333333u;
-  v = (v | (v << 1)) & 0x55555555u;
-  return v;
-}
-
-/// The particles sorted along the Morton curve of their positions (one scale for both axes,
-/// 2^16 cells across the larger extent); a non-finite position sorts first. Only the
-/// traversal order of the assembly: K does not depend on it.
-std::vector<int> morton_order(const Eigen::MatrixXd& x) {
-  const int n = static_cast<int>(x.cols());
-  std::vector<int> order(n);
+/// The order in which the assembly visits the particles: along the Hilbert curve of their
+/// positions (methods/ordering.hpp, the curve the explicit engine's reorder=hilbert uses), or
+/// by index when a position is not finite (the curve refuses those; the tables then carry the
+/// NaNs to the solve's own non-finite check). Only the traversal order: K does not depend on it.
+std::vector<int> visiting_order(const Eigen::MatrixXd& x) {
+  if (x.allFinite()) return hilbert_order(x);
+  std::vector<int> order(static_cast<std::size_t>(x.cols()));
   std::iota(order.begin(), order.end(), 0);
-  if (n == 0 || x.rows() != 2) return order;
-  double lo[2] = {x(0, 0), x(1, 0)}, hi[2] = {x(0, 0), x(1, 0)};
-  for (int J = 0; J < n; ++J)
-    for (int a = 0; a < 2; ++a)
-      if (std::isfinite(x(a, J))) {
-        lo[a] = std::min(lo[a], x(a, J));
-        hi[a] = std::max(hi[a], x(a, J));
-      }
-  const double extent = std::max(hi[0] - lo[0], hi[1] - lo[1]);
-  const double scale = extent > 0 && std::isfinite(extent) ? 65535.0 / extent : 0.0;
-  std::vector<std::uint64_t> key(n);
-  for (int J = 0; J < n; ++J) {
-    std::uint32_t cell[2] = {0, 0};
-    for (int a = 0; a < 2; ++a) {
-      const double c = (x(a, J) - lo[a]) * scale;
-      if (std::isfinite(c)) cell[a] = static_cast<std::uint32_t>(std::clamp(c, 0.0, 65535.0));
-    }
-    const std::uint64_t code = spread_bits(cell[0]) | (spread_bits(cell[1]) << 1);
-    key[J] = (code << 32) | static_cast<std::uint32_t>(J);
-  }
-  std::sort(key.begin(), key.end());
-  for (int t = 0; t < n; ++t) order[t] = static_cast<int>(key[t] & 0xffffffffu);
   return order;
 }
 
@@ -119,38 +89,37 @@ TransposedTable transpose(const ShapeTable& t, int particles) {
   return tt;
 }
 
-/// The number of particles I coupled with particle J (test support of any point in J's trial
-/// support); `mark` holds per particle the last J that counted it (reused across calls).
+/// Calls visit(I) once for each particle I coupled with particle J (in the test support of a
+/// point in J's trial support); `mark` holds per particle the last J that visited it (reused
+/// across calls, so no clearing per J).
+template <class Visit>
+void for_each_coupled(int J, const TransposedTable& trial_t, const ShapeTable& test,
+                      std::vector<int>& mark, Visit&& visit) {
+  for (int p = trial_t.offsets[J]; p < trial_t.offsets[J + 1]; ++p) {
+    const int q = trial_t.point[p];
+    for (int k = test.offsets[q]; k < test.offsets[q + 1]; ++k) {
+      const int I = test.index[k];
+      if (mark[I] != J) {
+        mark[I] = J;
+        visit(I);
+      }
+    }
+  }
+}
+
+/// The number of particles coupled with particle J (the symbolic pass).
 int count_coupled(int J, const TransposedTable& trial_t, const ShapeTable& test,
                   std::vector<int>& mark) {
   int m = 0;
-  for (int p = trial_t.offsets[J]; p < trial_t.offsets[J + 1]; ++p) {
-    const int q = trial_t.point[p];
-    for (int k = test.offsets[q]; k < test.offsets[q + 1]; ++k) {
-      const int I = test.index[k];
-      if (mark[I] != J) {
-        mark[I] = J;
-        ++m;
-      }
-    }
-  }
+  for_each_coupled(J, trial_t, test, mark, [&m](int) { ++m; });
   return m;
 }
 
-/// The particles I coupled with particle J, sorted (`mark` as for count_coupled).
+/// The particles coupled with particle J, sorted (the numeric pass).
 void coupled_particles(int J, const TransposedTable& trial_t, const ShapeTable& test,
                        std::vector<int>& mark, std::vector<int>& rows) {
   rows.clear();
-  for (int p = trial_t.offsets[J]; p < trial_t.offsets[J + 1]; ++p) {
-    const int q = trial_t.point[p];
-    for (int k = test.offsets[q]; k < test.offsets[q + 1]; ++k) {
-      const int I = test.index[k];
-      if (mark[I] != J) {
-        mark[I] = J;
-        rows.push_back(I);
-      }
-    }
-  }
+  for_each_coupled(J, trial_t, test, mark, [&rows](int I) { rows.push_back(I); });
   std::sort(rows.begin(), rows.end());
 }
 
@@ -166,7 +135,7 @@ void stiffness(const Discretization& d, const Eigen::Matrix3d& D, Eigen::SparseM
   check_particle_indices(trial.index, n);
   check_particle_indices(test.index, n);
   const TransposedTable trial_t = transpose(trial, n);
-  const std::vector<int> order = morton_order(d.particles.x);
+  const std::vector<int> order = visiting_order(d.particles.x);
   const double* w = d.quadrature.weights.data();
   const int threads = std::max(1, omp_get_max_threads());
   const bool parallel = run_parallel(threads, n);
