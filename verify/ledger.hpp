@@ -37,6 +37,42 @@
 //
 // A finding row whose problem exists but has no finding of that id yet is "not yet built"
 // too. Every error is "<file>:<line>: <what>; <fix>" (mfv::InputError, exit 2).
+//
+// Every kind may also say what its own reading rests on, and which statistic it takes:
+//   quote = "“…” (004 II eq 7.3)"        # the paper's sentence or equation behind the row's
+//                                        # own reading (the row as written)
+//   statistic = "finest_pair"            # measure rows with a rate: least_squares (default,
+//                                        # the slope over every resolution), finest_pair (the
+//                                        # slope between the two finest), best_pair (the
+//                                        # largest slope between successive resolutions)
+//
+// The reading search: other readings the paper's text allows, each a suite case or an option
+// of one, justified by a quote. Each replaces some of the row's keys and inherits the rest:
+//   [[row.try]]
+//   name = "DEM derivative (eq 6.6)"     # required, short: what differs from the row's reading
+//   quote = "“…” (004 II §6)"            # required: the sentence or equation that allows it
+//   fitted = true                        # optional: a constant fitted to the paper's numbers;
+//                                        # shown for scale, never counted in the verdict
+//   case = "..." / cases = [...]         # any of: case, cases, nodes (published rows: where
+//   nodes = [349]                        # ours is read; the paper values stay the row's),
+//   statistic = "best_pair"              # measure, statistic, quantity (another headline of
+//                                        # the case), finding, problem_params
+// The verdict is that of the closest reading that is not fitted: the best verdict (reproduced,
+// partly, not reproduced, not reached), then the smallest largest |ln(ours/paper)| (ratio
+// rows) or |ours − paper|/tolerance (difference rows); the row's own reading wins a tie. A
+// try that reproduces makes the row "reproduced under a stated reading" and is named.
+//
+// Evidence, how sure ours is: checks compute the chosen reading's value by a second route.
+//   [[row.check]]                        # a check of the row's own reading;
+//                                        # [[row.try.check]] checks that try
+//   kind = "independent"                 # or "converged"
+//   route = "closed form: …"             # required: what the second computation is
+//   case = "..."                         # the same overrides as a try
+// A value check agrees when each of its values is within the row's tolerance of ours (ratio
+// or difference as the row compares); a finding check when its verdict is ours. The evidence
+// is "independent" when an independent check agrees, else "converged" when a converged one
+// does (a finer resolution, quadrature or time step moved ours by less than the tolerance),
+// else "single run"; a check that disagrees is listed with its value.
 #include <filesystem>
 #include <map>
 #include <optional>
