@@ -721,7 +721,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
         "reading** (the row states the reading), **partly** (within three times the tolerance, "
         "or some of the row's values), **not reproduced** (the gap and the best reason), **not "
         "reached** (the run gave no finite value), **not run** (its case was not selected), "
-        "**not yet built** (the problem or check does not exist yet). Ratio = ours / paper.";
+        "**not yet built** (the problem or check does not exist yet). Ratio = ours / paper. "
+        "Each row may try several readings of the paper's text (each quoted); the verdict is "
+        "the closest reading's that is not a fitted constant, and names it. Evidence says how "
+        "sure ours is: **independent** (a second route agrees), **converged** (refinement "
+        "moves it less than the tolerance), **single run**.";
     // 3. The ledger: short rows here, every column (paper, ours, tolerance, reason, reading)
     // on ledger.md.
     std::vector<std::pair<std::string, std::string>> files;
@@ -729,7 +733,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       head += fmt::format(
           "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). {} The paper's "
           "and our values, the tolerance, the case that measures ours and the reason for each "
-          "gap are in [ledger.md](ledger.md).\n\n{}\n",
+          "gap, every reading tried and its checks are in [ledger.md](ledger.md), by paper.\n\n{}\n",
           ledger->path.filename().string(), legend, ledger_summary_markdown(entries));
       files.emplace_back(
           "ledger.md",

@@ -139,6 +139,12 @@ method = "fem"
 nodes = [21, 41]
 
 [[case]]
+id = "fem-b"
+problem = "laplace-tanh"
+method = "fem"
+nodes = [21, 41, 81]
+
+[[case]]
 id = "diffusion-fem"
 problem = "advection-diffusion"
 problem_params = { a = 0 }
@@ -350,6 +356,282 @@ TEST(Ledger, AOneSidedClaimAcceptsAnythingOnItsSide) {
   EXPECT_EQ(verdict(2.0), kNotReproduced);
   EXPECT_EQ(verdict(NAN), kNotReached);
 }
+
+
+// ---- The reading search, the statistic and the evidence (issue 25) ----
+
+/// The published row t1-fem with readings and checks appended to it (they attach to the
+/// last [[row]] of the text, so the row comes last).
+std::string row_with(const std::string& extra, const std::string& own = "") {
+  return std::string(R"([[row]]
+id = "t1-fem"
+source = "004 II §7, Table 1"
+claim = "FEM peak"
+case = "fem"
+published = "004 II Table 1"
+quantity = "peak du/dx at x=3"
+nodes = [21, 41]
+paper = [3.3168, 6.0343]
+tolerance = 0.01
+quote = "“the peak values of u_x are compared”"
+)") + own + extra;
+}
+
+const char* kTryB = R"(
+[[row.try]]
+name = "study b"
+quote = "“five different discretizations”"
+case = "fem-b"
+)";
+
+std::map<std::string, CaseOutcome> ran_two(const StudyResult& a, const StudyResult& b) {
+  return {{"fem", {&a, ""}}, {"fem-b", {&b, ""}}};
+}
+
+TEST(LedgerReadings, TheClosestReadingGivesTheVerdictAndIsNamed) {
+  const Fixture f(row_with(kTryB));
+  const Ledger l = f.load();
+  ASSERT_EQ(l.rows[0].tries.size(), 1u);
+  const StudyResult far = fake_study("laplace-tanh", {21, 41}, {3.32, 9.0}, 1.0);
+  const StudyResult close = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.0343, 9.0}, 2.0);
+  auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(far, close))[0];
+  EXPECT_EQ(e.verdict, kReproducedReading);
+  EXPECT_EQ(e.reading, "study b");
+  EXPECT_EQ(e.chosen, 1u);
+  ASSERT_EQ(e.readings.size(), 2u);
+  EXPECT_EQ(e.readings[0].verdict, kPartly);  // the row's own reading, recorded beside
+  EXPECT_DOUBLE_EQ(e.ours[1], 6.0343);
+  // Both reproduce: the row's own reading wins and the verdict is plain "reproduced".
+  e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(close, close))[0];
+  EXPECT_EQ(e.verdict, kReproduced);
+  EXPECT_EQ(e.chosen, 0u);
+  // The try did not run: the row's own verdict stands.
+  e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&far, ""}}})[0];
+  EXPECT_EQ(e.verdict, kPartly);
+  EXPECT_EQ(e.readings[1].verdict, kNotRun);
+}
+
+TEST(LedgerReadings, AmongPartlyReadingsTheNearestWins) {
+  const Fixture f(row_with(kTryB));
+  const Ledger l = f.load();
+  const StudyResult own = fake_study("laplace-tanh", {21, 41}, {3.3168, 6.6}, 1.0);    // ×1.094
+  const StudyResult b = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.3, 9}, 1.0);  // ×1.044
+  EXPECT_EQ(evaluate_ledger(l, f.catalogue, f.manifest, ran_two(own, b))[0].chosen, 1u);
+  EXPECT_EQ(evaluate_ledger(l, f.catalogue, f.manifest, ran_two(b, own))[0].chosen, 0u);
+}
+
+TEST(LedgerReadings, AFittedReadingIsShownButNeverCounted) {
+  const Fixture f(row_with(std::string(kTryB) + "fitted = true\n"));
+  const Ledger l = f.load();
+  const StudyResult far = fake_study("laplace-tanh", {21, 41}, {3.32, 9.0}, 1.0);
+  const StudyResult close = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.0343, 9.0}, 2.0);
+  const auto entries = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(far, close));
+  EXPECT_EQ(entries[0].verdict, kPartly);
+  EXPECT_EQ(entries[0].chosen, 0u);
+  EXPECT_EQ(entries[0].readings[1].verdict, kReproduced);
+  EXPECT_NE(ledger_markdown(entries).find("fitted: shown for scale, not counted"),
+            std::string::npos);
+}
+
+TEST(LedgerReadings, ATryMayReadOursAtOtherResolutions) {
+  const Fixture f(row_with(R"(
+[[row.try]]
+name = "finer"
+quote = "“q”"
+case = "fem-b"
+nodes = [41, 81]
+)"));
+  const Ledger l = f.load();
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {1, 1}, 1.0);
+  const StudyResult b = fake_study("laplace-tanh", {21, 41, 81}, {9, 3.3168, 6.0343}, 2.0);
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, b))[0];
+  EXPECT_EQ(e.verdict, kReproducedReading);
+  EXPECT_EQ(e.read->nodes, (std::vector<int>{41, 81}));
+  EXPECT_NE(ledger_markdown({e}).find("(n = 41, 81)"), std::string::npos);
+}
+
+TEST(LedgerReadings, TheStatisticChoosesHowARateIsRead) {
+  const std::string rows = R"X([[row]]
+id = "rate"
+source = "004 II §7"
+claim = "rate as high as 3"
+cases = ["fem"]
+measure = "l2_rate"
+statistic = "finest_pair"
+paper = [3.0]
+tolerance = 0.05
+quote = "“can go as high as”"
+
+[[row.try]]
+name = "best pair"
+quote = "“as high as”"
+statistic = "best_pair"
+
+[[row.try]]
+name = "least squares"
+quote = "“the slopes p and q” (eq 7.3)"
+statistic = "least_squares"
+)X";
+  const Fixture f(rows);
+  const Ledger l = f.load();
+  StudyResult s = fake_study("laplace-tanh", {21, 41, 81}, {1, 1, 1}, 2.0);
+  s.rates.pairwise["L2"] = {3.5, 3.0};
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&s, ""}}})[0];
+  ASSERT_EQ(e.readings.size(), 3u);
+  EXPECT_DOUBLE_EQ(e.readings[0].ours[0], 3.0);  // finest pair
+  EXPECT_DOUBLE_EQ(e.readings[1].ours[0], 3.5);  // best pair
+  EXPECT_DOUBLE_EQ(e.readings[2].ours[0], 2.0);  // least squares
+  EXPECT_EQ(e.verdict, kReproduced);
+  EXPECT_EQ(e.chosen, 0u);
+  s.rates.pairwise["L2"] = {3.0, std::nan("")};  // a pair not reached: finest_pair has none
+  const auto g = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&s, ""}}})[0];
+  EXPECT_EQ(g.readings[0].verdict, kNotReached);
+  EXPECT_EQ(g.chosen, 1u);
+}
+
+TEST(LedgerEvidence, ComputedFromChecksThatAgreeWithinTheTolerance) {
+  const std::string checks = R"(
+[[row.check]]
+kind = "converged"
+route = "study b: the same resolutions, more quadrature"
+case = "fem-b"
+)";
+  const Fixture f(row_with(checks));
+  const Ledger l = f.load();
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {3.3168, 6.0343}, 1.0);
+  const StudyResult near = fake_study("laplace-tanh", {21, 41, 81}, {3.32, 6.04, 9}, 1.0);
+  const StudyResult off = fake_study("laplace-tanh", {21, 41, 81}, {3.32, 6.5, 9}, 1.0);
+  auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, near))[0];
+  EXPECT_EQ(e.evidence, kEvidenceConverged);
+  ASSERT_EQ(e.readings[0].checks.size(), 1u);
+  EXPECT_TRUE(e.readings[0].checks[0].agrees);
+  e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, off))[0];
+  EXPECT_EQ(e.evidence, kEvidenceSingle);
+  EXPECT_FALSE(e.readings[0].checks[0].agrees);
+  const std::string md = ledger_markdown({e});
+  EXPECT_NE(md.find("study b: the same resolutions"), std::string::npos);
+  // A check that did not run gives no evidence; a row that did not run has none at all.
+  e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&a, ""}}})[0];
+  EXPECT_EQ(e.evidence, kEvidenceSingle);
+  e = evaluate_ledger(l, f.catalogue, f.manifest, {})[0];
+  EXPECT_EQ(e.evidence, "–");
+  // An independent check outranks a converged one.
+  const Fixture g(row_with(std::string(checks) + R"(
+[[row.check]]
+kind = "independent"
+route = "closed form"
+case = "fem-b"
+)"));
+  const Ledger lg = g.load();
+  EXPECT_EQ(evaluate_ledger(lg, g.catalogue, g.manifest, ran_two(a, near))[0].evidence,
+            kEvidenceIndependent);
+}
+
+TEST(LedgerEvidence, ATryCarriesItsOwnChecks) {
+  const Fixture f(row_with(std::string(kTryB) + R"(
+[[row.try.check]]
+kind = "converged"
+route = "the first study"
+case = "fem"
+)"));
+  const Ledger l = f.load();
+  ASSERT_EQ(l.rows[0].tries.at(0).checks.size(), 1u);
+  EXPECT_TRUE(l.rows[0].checks.empty());
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {3.33, 6.05}, 1.0);
+  const StudyResult b = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.0343, 9}, 1.0);
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, b))[0];
+  EXPECT_EQ(e.chosen, 1u);
+  EXPECT_EQ(e.evidence, kEvidenceConverged);
+  EXPECT_EQ(e.readings[0].evidence, kEvidenceSingle);
+}
+
+TEST(LedgerReadings, CsvAndPageShowEveryReadingAndCheck) {
+  const Fixture f(row_with(std::string(kTryB) + R"(
+[[row.check]]
+kind = "independent"
+route = "a closed form"
+case = "fem-b"
+)"));
+  const Ledger l = f.load();
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {3.32, 9.0}, 1.0);
+  const StudyResult b = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.0343, 9}, 1.0);
+  const auto entries = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, b));
+  const std::string csv = ledger_csv(entries);
+  EXPECT_NE(csv.find(",evidence,reading,readings_tried,checks,"), std::string::npos);
+  EXPECT_NE(csv.find("* study b"), std::string::npos);
+  EXPECT_NE(csv.find("a closed form"), std::string::npos);
+  const std::string md = ledger_markdown(entries);
+  EXPECT_NE(md.find("## Counts by paper and section"), std::string::npos);
+  EXPECT_NE(md.find("## 004 — "), std::string::npos);
+  EXPECT_NE(md.find("<a id=\"row-t1-fem\"></a>"), std::string::npos);
+  EXPECT_NE(md.find("[2 tried](#row-t1-fem)"), std::string::npos);
+  EXPECT_NE(md.find("“five different discretizations”"), std::string::npos);
+  EXPECT_NE(md.find("**study b** ← verdict"), std::string::npos);
+}
+
+TEST(LedgerReadings, PaperAndSectionComeFromTheRow) {
+  auto section = [](const std::string& id, const std::string& source) {
+    LedgerRow r;
+    r.id = id;
+    r.source = source;
+    return std::make_pair(ledger_paper(r), ledger_section(r));
+  };
+  EXPECT_EQ(section("004-II-T1-j1", "004 II §7, Table 1 (RKPM j = 1 column)"),
+            std::make_pair(std::string("004"), std::string("II §7")));
+  EXPECT_EQ(section("004-I-T6.1-fem-u", "004 I §6, Table 6.1 (a = 0)").second, "I §6");
+  EXPECT_EQ(section("001-T3-sph-1Lc", "001 §9.2, Table 3").second, "§9.2");
+  EXPECT_EQ(section("003-alpha", "Belytschko et al. 2000a via 003 §4.3.3").second, "§4.3.3");
+  EXPECT_EQ(section("000-3.1.2-onset", "000 §3.1.2, Fig. 3").second, "§3.1.2");
+  EXPECT_EQ(section("004-III-ts-fem", "004 III §5.2.").second, "III §5.2");
+  EXPECT_EQ(section("hydrostatics-at-rest", "hydrostatics"),
+            std::make_pair(std::string("other"), std::string("hydrostatics")));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Readings, LedgerBadInput,
+    ::testing::Values(
+        BadRow{"try without quote", row_with("\n[[row.try]]\nname = \"b\"\ncase = \"fem-b\"\n"),
+               "has no 'quote'"},
+        BadRow{"try without name", row_with("\n[[row.try]]\nquote = \"q\"\ncase = \"fem-b\"\n"),
+               "has no 'name'"},
+        BadRow{"try of another kind", row_with("\n[[row.try]]\nname = \"b\"\nquote = \"q\"\n"
+                                               "measure = \"l2_rate\"\n"),
+               "'measure' cannot be set in a try"},
+        BadRow{"try of an unknown case",
+               row_with("\n[[row.try]]\nname = \"b\"\nquote = \"q\"\ncase = \"nope\"\n"),
+               "names the case 'nope'"},
+        BadRow{"try reading other node counts",
+               row_with("\n[[row.try]]\nname = \"b\"\nquote = \"q\"\nnodes = [21]\n"),
+               "reads 1 resolution(s) for 2"},
+        BadRow{"two tries of one name", row_with(std::string(kTryB) + kTryB), "twice"},
+        BadRow{"fitted not boolean",
+               row_with(std::string(kTryB) + "fitted = \"yes\"\n"), "'fitted' must be"},
+        BadRow{"check kind", row_with("\n[[row.check]]\nkind = \"sure\"\nroute = \"r\"\n"
+                                      "case = \"fem-b\"\n"),
+               "kind = \"sure\" is not known"},
+        BadRow{"check without route", row_with("\n[[row.check]]\nkind = \"converged\"\n"
+                                               "case = \"fem-b\"\n"),
+               "has no 'route'"},
+        BadRow{"check that repeats the reading",
+               row_with("\n[[row.check]]\nkind = \"converged\"\nroute = \"r\"\n"),
+               "replaces nothing"},
+        BadRow{"try as a plain table", row_with("try = { name = \"b\" }\n"),
+               "must be [[row.try]] tables"},
+        BadRow{"statistic of a published row", row_with("", "statistic = \"best_pair\"\n"),
+               "measures no rate"},
+        BadRow{"unknown statistic",
+               replace(kGoodRows, "measure = \"l2_rate\"",
+                       "measure = \"l2_rate\"\nstatistic = \"median\""),
+               "statistic = \"median\" is not known"},
+        BadRow{"tries without the row's own quote",
+               replace(row_with(kTryB), "quote = \"“the peak values of u_x are compared”\"\n", ""),
+               "does not say what its own rests on"}),
+    [](const auto& info) {
+      std::string s = info.param.name;
+      for (auto& ch : s)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return s;
+    });
 
 /// The measurement gaps the ledger's author left are closed: every published row names a suite
 /// case, and the GRK Δt rows (the numeric step and eq 5.2.5, j = −1, 0, 1) get a verdict from

@@ -176,11 +176,26 @@ std::string join_values(const std::vector<double>& v, bool exact = false) {
   return fmt::format("{}", fmt::join(s, exact ? ";" : ", "));
 }
 
-/// One row's value of a measure in a study: a least-squares rate or a headline at the finest.
-double measure_value(const StudyResult& s, const std::string& measure) {
-  if (measure == "l2_rate") return s.rates.rate("L2");
-  if (measure == "h1_rate") return s.rates.rate("H1-semi");
-  if (measure == "energy_rate") return s.rates.rate("energy");
+/// A rate of a study under a statistic: the least-squares slope, or a slope between
+/// successive resolutions (the finest pair, or the largest of them; NaN pairs are skipped by
+/// best_pair and make finest_pair NaN).
+double rate_value(const Rates& rates, const std::string& column, RateStatistic statistic) {
+  if (statistic == RateStatistic::least_squares) return rates.rate(column);
+  const auto& pairs = rates.pairwise_of(column);
+  if (pairs.empty()) return NAN;
+  if (statistic == RateStatistic::finest_pair) return pairs.back();
+  double best = NAN;
+  for (double p : pairs)
+    if (std::isfinite(p) && !(p <= best)) best = p;
+  return best;
+}
+
+/// One row's value of a measure in a study: a rate under the row's statistic, or a headline
+/// at the finest resolution.
+double measure_value(const StudyResult& s, const std::string& measure, RateStatistic statistic) {
+  if (measure == "l2_rate") return rate_value(s.rates, kRateL2, statistic);
+  if (measure == "h1_rate") return rate_value(s.rates, kRateH1Semi, statistic);
+  if (measure == "energy_rate") return rate_value(s.rates, kRateEnergy, statistic);
   if (measure.rfind("headline:", 0) == 0 && !s.cases.empty()) {
     const auto it = s.cases.back().headline.find(measure.substr(9));
     return it == s.cases.back().headline.end() ? NAN : it->second;
@@ -251,6 +266,203 @@ double our_published_value(const CaseResult& r, const std::string& quantity) {
   return it == r.headline.end() ? NAN : it->second;
 }
 
+namespace {
+
+const std::vector<std::string> kRowKeys = {
+    "id", "source", "claim", "reading", "reason", "quote", "case", "cases", "problem",
+    "problem_params", "method", "method_params", "published", "quantity", "nodes", "paper",
+    "tolerance", "compare", "measure", "statistic", "finding", "try", "check"};
+
+bool is_rate_measure(const std::string& m) {
+  return m == "l2_rate" || m == "h1_rate" || m == "energy_rate";
+}
+
+RateStatistic parse_statistic(const Reporter& r, const toml::table& t, int line) {
+  const std::string s = get_string(r, t, "statistic", false, line);
+  if (s.empty() || s == "least_squares") return RateStatistic::least_squares;
+  if (s == "finest_pair") return RateStatistic::finest_pair;
+  if (s == "best_pair") return RateStatistic::best_pair;
+  r.fail(line_of(*t.get("statistic")), fmt::format("statistic = \"{}\" is not known", s),
+         "write least_squares, finest_pair or best_pair");
+}
+
+std::vector<int> get_nodes(const Reporter& r, const toml::node& n) {
+  std::vector<int> out;
+  for (double v : get_numbers(r, n, "nodes")) {
+    if (v != std::floor(v) || v < 1)
+      r.fail(line_of(n), "'nodes' must hold positive integers", "write nodes = [21, 41]");
+    out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+/// "<problem>:<id>" into the row (finding rows).
+void set_finding(const Reporter& r, LedgerRow& row, const std::string& finding,
+                 const Registries& catalogue) {
+  const auto colon = finding.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == finding.size())
+    r.fail(row.line, fmt::format("finding '{}' is not <problem>:<id>", finding),
+           "write finding = \"cantilever:kbm-si-rate\"");
+  row.problem = finding.substr(0, colon);
+  row.finding = finding.substr(colon + 1);
+  if (catalogue.problems.contains(row.problem)) {
+    try {
+      create_problem(catalogue, row.problem, row.problem_params);
+    } catch (const InputError& e) {
+      r.fail(row.line, e.what(), "fix the row's problem_params");
+    }
+  }
+}
+
+/// Takes problem and method from the manifest case a published row names.
+void take_case(const Reporter& r, LedgerRow& row, const Manifest& manifest) {
+  const ManifestCase* mc = find_case(manifest, row.cases[0]);
+  if (!mc)
+    r.fail(row.line, fmt::format("row '{}' names the case '{}', not in {}", row.id,
+                                 row.cases[0], manifest.path.string()),
+           "name a case id of the manifest (mfv verify --case lists them)");
+  row.problem = mc->problem;
+  row.problem_params = mc->problem_params;
+  row.method = mc->method;
+  row.method_params = mc->method_params;
+}
+
+void check_cases_exist(const Reporter& r, const LedgerRow& row, const Manifest& manifest) {
+  for (const auto& id : row.cases)
+    if (!find_case(manifest, id))
+      r.fail(row.line, fmt::format("row '{}' names the case '{}', not in {}", row.id, id,
+                                   manifest.path.string()),
+             "name a case id of the manifest (mfv verify --case lists them)");
+}
+
+/// What a try or a check may replace in a row of each kind (the rest it inherits).
+std::vector<std::string> replaceable(LedgerRow::Kind kind) {
+  switch (kind) {
+    case LedgerRow::Kind::published: return {"case", "nodes", "quantity"};
+    case LedgerRow::Kind::measure: return {"cases", "measure", "statistic"};
+    case LedgerRow::Kind::finding: return {"finding", "problem_params"};
+    case LedgerRow::Kind::open: return {};
+  }
+  return {};
+}
+
+/// The row `base` with the replacements of a [[row.try]] or [[row.check]] table.
+std::shared_ptr<const LedgerRow> variant_of(const Reporter& r, const LedgerRow& base,
+                                            const toml::table& t, const std::string& what,
+                                            const std::vector<std::string>& own_keys,
+                                            const Manifest& manifest,
+                                            const Registries& catalogue) {
+  auto v = std::make_shared<LedgerRow>(base);
+  v->tries.clear();
+  v->checks.clear();
+  v->line = line_of(t);
+  if (base.kind == LedgerRow::Kind::open)
+    r.fail(v->line, fmt::format("row '{}' is open: it has no reading to vary", base.id),
+           fmt::format("drop the {}", what));
+  const auto can = replaceable(base.kind);
+  std::vector<std::string> valid = own_keys;
+  valid.insert(valid.end(), can.begin(), can.end());
+  for (const auto& [k, node] : t)
+    if (std::find(valid.begin(), valid.end(), std::string(k.str())) == valid.end())
+      r.fail(line_of(node), fmt::format("'{}' cannot be set in a {} of row '{}'", k.str(), what,
+                                        base.id),
+             fmt::format("valid keys here: {}", fmt::join(valid, ", ")));
+  if (const auto* c = t.get("case")) {
+    v->cases = {get_string(r, t, "case", true, v->line)};
+    (void)c;
+    take_case(r, *v, manifest);
+  }
+  if (const auto* c = t.get("cases")) {
+    v->cases = get_strings(r, *c, "cases");
+    check_cases_exist(r, *v, manifest);
+  }
+  if (const auto* n = t.get("nodes")) {
+    v->nodes = get_nodes(r, *n);
+    if (v->nodes.size() != v->paper.size())
+      r.fail(line_of(*n), fmt::format("{} of row '{}' reads {} resolution(s) for {} paper "
+                                      "value(s)", what, base.id, v->nodes.size(), v->paper.size()),
+             "give one resolution per paper value");
+  }
+  if (t.get("quantity")) v->quantity = get_string(r, t, "quantity", true, v->line);
+  if (t.get("measure")) {
+    v->measure = get_string(r, t, "measure", true, v->line);
+    if (!is_rate_measure(v->measure) && v->measure.rfind("headline:", 0) != 0)
+      r.fail(v->line, fmt::format("unknown measure '{}'", v->measure),
+             "use l2_rate, h1_rate, energy_rate or headline:<name>");
+  }
+  if (t.get("statistic")) v->statistic = parse_statistic(r, t, v->line);
+  if (t.get("problem_params")) v->problem_params = get_params(r, t, "problem_params");
+  if (t.get("finding")) set_finding(r, *v, get_string(r, t, "finding", true, v->line), catalogue);
+  else if (t.get("problem_params")) set_finding(r, *v, v->problem + ":" + v->finding, catalogue);
+  return v;
+}
+
+std::vector<LedgerCheck> parse_checks(const Reporter& r, const LedgerRow& base,
+                                      const toml::node* node, const Manifest& manifest,
+                                      const Registries& catalogue) {
+  std::vector<LedgerCheck> out;
+  if (!node) return out;
+  const auto* a = node->as_array();
+  if (!a || !a->is_array_of_tables())
+    r.fail(line_of(*node), fmt::format("'check' of row '{}' must be [[row.check]] tables", base.id),
+           "write each check as [[row.check]] (or [[row.try.check]])");
+  for (const auto& n : *a) {
+    const auto& t = *n.as_table();
+    LedgerCheck c;
+    c.line = line_of(n);
+    c.route = get_string(r, t, "route", true, c.line);
+    const std::string kind = get_string(r, t, "kind", true, c.line);
+    if (kind == "independent") c.kind = LedgerCheck::Kind::independent;
+    else if (kind == "converged") c.kind = LedgerCheck::Kind::converged;
+    else
+      r.fail(c.line, fmt::format("check kind = \"{}\" is not known", kind),
+             "write kind = \"independent\" (a second route) or \"converged\" (refinement)");
+    c.row = variant_of(r, base, t, "check", {"kind", "route"}, manifest, catalogue);
+    if (t.size() == 2)
+      r.fail(c.line, fmt::format("a check of row '{}' replaces nothing: it would repeat the "
+                                 "reading", base.id),
+             "name the case, cases, nodes or finding the second computation uses");
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<LedgerReading> parse_tries(const Reporter& r, const LedgerRow& base,
+                                       const toml::node* node, const Manifest& manifest,
+                                       const Registries& catalogue) {
+  std::vector<LedgerReading> out;
+  if (!node) return out;
+  const auto* a = node->as_array();
+  if (!a || !a->is_array_of_tables())
+    r.fail(line_of(*node), fmt::format("'try' of row '{}' must be [[row.try]] tables", base.id),
+           "write each reading tried as [[row.try]]");
+  std::set<std::string> names;
+  for (const auto& n : *a) {
+    const auto& t = *n.as_table();
+    LedgerReading rd;
+    rd.line = line_of(n);
+    rd.name = get_string(r, t, "name", true, rd.line);
+    if (!names.insert(rd.name).second)
+      r.fail(rd.line, fmt::format("row '{}' tries the reading '{}' twice", base.id, rd.name),
+             "give each reading its own name");
+    rd.quote = get_string(r, t, "quote", true, rd.line);
+    if (const auto* f = t.get("fitted")) {
+      const auto* b = f->as_boolean();
+      if (!b)
+        r.fail(line_of(*f), "'fitted' must be true or false",
+               "write fitted = true for a constant fitted to the paper's numbers");
+      rd.fitted = b->get();
+    }
+    rd.row = variant_of(r, base, t, "try", {"name", "quote", "fitted", "check"}, manifest,
+                        catalogue);
+    rd.checks = parse_checks(r, *rd.row, t.get("check"), manifest, catalogue);
+    out.push_back(std::move(rd));
+  }
+  return out;
+}
+
+}  // namespace
+
 Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
                    const Registries& catalogue) {
   const Reporter r(path.string());
@@ -263,10 +475,6 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     r.fail(static_cast<int>(e.source().begin.line), std::string(e.description()),
            "fix the TOML syntax (" + std::string(kFormatHint) + ")");
   }
-  static const std::vector<std::string> kKeys = {
-      "id", "source", "claim", "reading", "reason", "case", "cases", "problem", "problem_params",
-      "method", "method_params", "published", "quantity", "nodes", "paper", "tolerance",
-      "compare", "measure", "finding"};
   for (const auto& [k, v] : doc)
     if (k.str() != "row")
       r.fail(line_of(v), fmt::format("unknown top-level key '{}'", k.str()),
@@ -284,9 +492,9 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     LedgerRow row;
     row.line = line_of(node);
     for (const auto& [k, v] : *t)
-      if (std::find(kKeys.begin(), kKeys.end(), std::string(k.str())) == kKeys.end())
+      if (std::find(kRowKeys.begin(), kRowKeys.end(), std::string(k.str())) == kRowKeys.end())
         r.fail(line_of(v), fmt::format("unknown key '{}' in a row", k.str()),
-               fmt::format("valid keys: {}", fmt::join(kKeys, ", ")));
+               fmt::format("valid keys: {}", fmt::join(kRowKeys, ", ")));
     row.id = get_string(r, *t, "id", true, row.line);
     if (!ids.insert(row.id).second)
       r.fail(row.line, fmt::format("duplicate row id '{}'", row.id), "give each row its own id");
@@ -294,6 +502,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     row.claim = get_string(r, *t, "claim", true, row.line);
     row.reading = get_string(r, *t, "reading", false, row.line);
     row.reason = get_string(r, *t, "reason", false, row.line);
+    row.quote = get_string(r, *t, "quote", false, row.line);
     row.problem_params = get_params(r, *t, "problem_params");
     row.method_params = get_params(r, *t, "method_params");
     row.problem = get_string(r, *t, "problem", false, row.line);
@@ -309,13 +518,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
       row.cases = get_strings(r, *c, "cases");
     }
     if (const auto* p = t->get("paper")) row.paper = get_numbers(r, *p, "paper");
-    if (const auto* n = t->get("nodes")) {
-      for (double v : get_numbers(r, *n, "nodes")) {
-        if (v != std::floor(v) || v < 1)
-          r.fail(line_of(*n), "'nodes' must hold positive integers", "write nodes = [21, 41]");
-        row.nodes.push_back(static_cast<int>(v));
-      }
-    }
+    if (const auto* n = t->get("nodes")) row.nodes = get_nodes(r, *n);
     if (const auto* tol = t->get("tolerance")) {
       const auto v = number_of(*tol);
       if (!v || !(*v > 0) || !std::isfinite(*v))
@@ -346,24 +549,16 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
         r.fail(row.line, fmt::format("row '{}' states no tolerance", row.id),
                "add tolerance = <relative or absolute tolerance>");
     };
-    for (const auto& id : row.cases)
-      if (!find_case(manifest, id))
-        r.fail(row.line, fmt::format("row '{}' names the case '{}', not in {}", row.id, id,
-                                     manifest.path.string()),
-               "name a case id of the manifest (mfv verify --case lists them)");
+    check_cases_exist(r, row, manifest);
     if (!row.published_source.empty()) {
       row.kind = LedgerRow::Kind::published;
       if (row.cases.size() > 1)
         r.fail(row.line, "a published row names one case", "write case = \"...\"");
       if (row.cases.size() == 1) {
-        const ManifestCase& mc = *find_case(manifest, row.cases[0]);
         if (!row.problem.empty() || !row.method.empty())
           r.fail(row.line, "a row with a case takes problem and method from it",
                  "drop problem/method/problem_params/method_params");
-        row.problem = mc.problem;
-        row.problem_params = mc.problem_params;
-        row.method = mc.method;
-        row.method_params = mc.method_params;
+        take_case(r, row, manifest);
       } else if (row.problem.empty() || row.method.empty()) {
         r.fail(row.line, fmt::format("published row '{}' names neither a case nor a problem "
                                      "and method", row.id),
@@ -385,27 +580,14 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
       if (row.cases.empty())
         r.fail(row.line, fmt::format("measure row '{}' names no case", row.id),
                "add cases = [\"<suite case>\", ...]");
-      const bool known = row.measure == "l2_rate" || row.measure == "h1_rate" ||
-                         row.measure == "energy_rate" || row.measure.rfind("headline:", 0) == 0;
+      const bool known = is_rate_measure(row.measure) || row.measure.rfind("headline:", 0) == 0;
       if (!known)
         r.fail(row.line, fmt::format("unknown measure '{}'", row.measure),
                "use l2_rate, h1_rate, energy_rate or headline:<name>");
       need_numbers(1);
     } else if (!finding.empty()) {
       row.kind = LedgerRow::Kind::finding;
-      const auto colon = finding.find(':');
-      if (colon == std::string::npos || colon == 0 || colon + 1 == finding.size())
-        r.fail(row.line, fmt::format("finding '{}' is not <problem>:<id>", finding),
-               "write finding = \"cantilever:kbm-si-rate\"");
-      row.problem = finding.substr(0, colon);
-      row.finding = finding.substr(colon + 1);
-      if (catalogue.problems.contains(row.problem)) {
-        try {
-          create_problem(catalogue, row.problem, row.problem_params);
-        } catch (const InputError& e) {
-          r.fail(row.line, e.what(), "fix the row's problem_params");
-        }
-      }
+      set_finding(r, row, finding, catalogue);
     } else {
       row.kind = LedgerRow::Kind::open;
       if (row.problem.empty())
@@ -417,9 +599,220 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
                                      row.id, row.problem),
                "name the case or finding that measures the claim");
     }
+    if (t->get("statistic")) {
+      if (row.kind != LedgerRow::Kind::measure)
+        r.fail(row.line, fmt::format("row '{}' sets a statistic but measures no rate", row.id),
+               "drop 'statistic' (it chooses how a measure row reads a rate)");
+      row.statistic = parse_statistic(r, *t, row.line);
+    }
+    row.tries = parse_tries(r, row, t->get("try"), manifest, catalogue);
+    row.checks = parse_checks(r, row, t->get("check"), manifest, catalogue);
+    if (!row.tries.empty() && row.quote.empty() && row.reading.empty())
+      r.fail(row.line, fmt::format("row '{}' tries other readings but does not say what its "
+                                   "own rests on", row.id),
+             "add quote = \"<the paper's words>\" (or reading = \"…\") to the row");
     ledger.rows.push_back(std::move(row));
   }
   return ledger;
+}
+
+namespace {
+
+/// Rank of a verdict for choosing the closest reading (lower is closer).
+int verdict_rank(const std::string& v) {
+  static const std::vector<std::string> order = {kReproduced, kPartly, kNotReproduced,
+                                                 kNotReached, kNotRun, kNotYetBuilt};
+  const auto it = std::find(order.begin(), order.end(), v);
+  return static_cast<int>(it - order.begin());
+}
+
+bool compared_verdict(const std::string& v) {
+  return v == kReproduced || v == kPartly || v == kNotReproduced;
+}
+
+/// The largest distance of ours from the paper over a reading's values (see
+/// LedgerReadingOutcome::distance).
+double distance_of(const LedgerReadingOutcome& o) {
+  const LedgerRow& row = *o.row;
+  if (row.kind == LedgerRow::Kind::finding || row.kind == LedgerRow::Kind::open)
+    return compared_verdict(o.verdict) ? 0 : INFINITY;
+  if (o.compared.empty()) return INFINITY;
+  double d = 0;
+  for (std::size_t i = 0; i < o.compared.size(); ++i) {
+    const Comparison& c = o.compared[i];
+    if (!std::isfinite(c.difference)) return INFINITY;
+    const double paper = row.paper[i];
+    if (row.bound != LedgerRow::Bound::none) {
+      const double excess = row.bound == LedgerRow::Bound::at_least ? -c.difference : c.difference;
+      d = std::max(d, std::max(0.0, excess) / (row.tolerance * std::max(std::abs(paper), 1e-300)));
+    } else if (row.compare == CompareBy::ratio && std::isfinite(c.ratio) && c.ratio > 0) {
+      d = std::max(d, std::abs(std::log(c.ratio)));
+    } else {
+      d = std::max(d, std::abs(c.difference) / row.tolerance);
+    }
+  }
+  return d;
+}
+
+/// One reading's values and verdict against the paper, before a stated reading is named.
+LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& catalogue,
+                                     const Manifest& manifest,
+                                     const std::map<std::string, CaseOutcome>& ran) {
+  LedgerReadingOutcome e;
+  e.row = &row;
+  switch (row.kind) {
+    case LedgerRow::Kind::open:
+      e.verdict = kNotYetBuilt;
+      e.why = fmt::format("the catalogue has no problem '{}' yet", row.problem);
+      break;
+    case LedgerRow::Kind::published: {
+      if (row.cases.empty()) {
+        e.verdict = kNotRun;
+        e.why = "no case of the suite measures it";
+        e.ours.assign(row.paper.size(), NAN);
+        break;
+      }
+      const auto it = ran.find(row.cases[0]);
+      if (it == ran.end()) {
+        e.verdict = kNotRun;
+        e.why = fmt::format("case {} did not run in this invocation", row.cases[0]);
+        e.ours.assign(row.paper.size(), NAN);
+        break;
+      }
+      std::vector<std::string> missing;
+      bool computed = false;  // whether any case of the study has the quantity at all
+      for (std::size_t i = 0; i < row.nodes.size(); ++i) {
+        double ours = NAN;
+        if (it->second.study)
+          for (const auto& r : it->second.study->cases) {
+            computed = computed || row.quantity == "error u" ||
+                       row.quantity == "error du/dx" || r.headline.count(row.quantity) > 0;
+            if (r.spec.nodes == row.nodes[i]) ours = our_published_value(r, row.quantity);
+          }
+        if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
+        e.ours.push_back(ours);
+        e.compared.push_back(compare_row(ours, row.paper[i], row));
+      }
+      e.verdict = combine(e.compared);
+      if (!it->second.study)
+        e.why = fmt::format("case {} could not run: {}", row.cases[0], it->second.error);
+      else if (!computed)
+        e.why = fmt::format("case {} computes no '{}'", row.cases[0], row.quantity);
+      else if (!missing.empty())
+        e.why = fmt::format("no finite value at {} nodes", fmt::join(missing, ", "));
+      break;
+    }
+    case LedgerRow::Kind::measure: {
+      double best = NAN;
+      std::vector<std::string> not_run, failed;
+      for (const auto& id : row.cases) {
+        const auto it = ran.find(id);
+        if (it == ran.end()) { not_run.push_back(id); continue; }
+        if (!it->second.study) { failed.push_back(id); continue; }
+        const double v = measure_value(*it->second.study, row.measure, row.statistic);
+        if (std::isfinite(v) && !(v <= best)) best = v;
+      }
+      if (!not_run.empty()) {
+        e.verdict = kNotRun;
+        e.why = not_run.size() == 1 ? fmt::format("case {} did not run in this invocation", not_run[0])
+                                    : fmt::format("{} of its cases did not run in this invocation", not_run.size());
+        e.ours = {NAN};
+        break;
+      }
+      e.ours = {best};
+      e.compared = {compare_row(best, row.paper[0], row)};
+      e.verdict = e.compared[0].verdict;
+      if (!failed.empty()) e.why = fmt::format("could not run: {}", fmt::join(failed, ", "));
+      break;
+    }
+    case LedgerRow::Kind::finding: {
+      if (!catalogue.problems.contains(row.problem)) {
+        e.verdict = kNotYetBuilt;
+        e.why = fmt::format("the catalogue has no problem '{}' yet", row.problem);
+        break;
+      }
+      const auto problem = create_problem(catalogue, row.problem, row.problem_params);
+      const auto findings = problem->findings();
+      const auto f = std::find_if(findings.begin(), findings.end(),
+                                  [&](const Finding& x) { return x.id == row.finding; });
+      if (f == findings.end()) {
+        e.verdict = kNotYetBuilt;
+        e.why = fmt::format("{} has no finding '{}' yet", row.problem, row.finding);
+        break;
+      }
+      e.criterion = f->criterion;
+      std::vector<StudyResult> studies;
+      for (const auto& mc : manifest.cases) {
+        if (mc.problem != row.problem) continue;
+        if (!params_match(resolved_case_params(catalogue, mc.problem, mc.problem_params),
+                          row.problem_params))
+          continue;
+        const auto it = ran.find(mc.id);
+        if (it != ran.end() && it->second.study) studies.push_back(*it->second.study);
+      }
+      if (studies.empty()) {
+        e.verdict = kNotRun;
+        e.why = fmt::format("no study of {} ran in this invocation", row.problem);
+        break;
+      }
+      const Verdict v = f->check(summarize(catalogue, studies));
+      e.ours_text = v.ours;
+      e.verdict = v.status == "not run" ? std::string(kNotRun) : v.status;
+      if (std::find(ledger_verdicts().begin(), ledger_verdicts().end(), e.verdict) ==
+          ledger_verdicts().end())
+        throw std::logic_error(fmt::format("finding {}:{} returned the verdict '{}'",
+                                           row.problem, row.finding, v.status));
+      if (e.verdict == kNotRun && e.why.empty()) e.why = v.ours;
+      break;
+    }
+  }
+  e.distance = distance_of(e);
+  return e;
+}
+
+/// Whether a check's second computation agrees with the reading it checks.
+bool check_agrees(const LedgerCheckOutcome& c, const LedgerReadingOutcome& o) {
+  const LedgerRow& row = *o.row;
+  if (row.kind == LedgerRow::Kind::finding)
+    return compared_verdict(o.verdict) && c.verdict == o.verdict;
+  if (c.values.size() != o.ours.size() || o.ours.empty()) return false;
+  for (std::size_t i = 0; i < o.ours.size(); ++i) {
+    const double a = o.ours[i], b = c.values[i];
+    if (!std::isfinite(a) || !std::isfinite(b)) return false;
+    const bool relative = row.compare == CompareBy::ratio || row.bound != LedgerRow::Bound::none;
+    const double gap = relative ? (a != 0 ? std::abs(b / a - 1) : std::abs(b)) : std::abs(b - a);
+    if (!(gap <= row.tolerance)) return false;
+  }
+  return true;
+}
+
+void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& checks,
+                     const Registries& catalogue, const Manifest& manifest,
+                     const std::map<std::string, CaseOutcome>& ran) {
+  bool independent = false, converged = false;
+  for (const auto& check : checks) {
+    const LedgerReadingOutcome m = measure_reading(*check.row, catalogue, manifest, ran);
+    LedgerCheckOutcome c;
+    c.check = &check;
+    c.values = m.ours;
+    c.ours_text = m.ours_text.empty() ? m.why : m.ours_text;
+    c.verdict = m.verdict;
+    c.agrees = check_agrees(c, o);
+    if (c.agrees) (check.kind == LedgerCheck::Kind::independent ? independent : converged) = true;
+    o.checks.push_back(std::move(c));
+  }
+  const bool ran_at_all = compared_verdict(o.verdict) || o.verdict == kNotReached;
+  o.evidence = !ran_at_all  ? "–"
+               : independent ? kEvidenceIndependent
+               : converged   ? kEvidenceConverged
+                             : kEvidenceSingle;
+}
+
+}  // namespace
+
+std::string LedgerReadingOutcome::name() const {
+  if (reading) return reading->name;
+  return row->reading.empty() ? std::string("as printed") : row->reading;
 }
 
 std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries& catalogue,
@@ -429,121 +822,45 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
   for (const auto& row : ledger.rows) {
     LedgerEntry e;
     e.row = &row;
-    switch (row.kind) {
-      case LedgerRow::Kind::open:
-        e.verdict = kNotYetBuilt;
-        e.why = fmt::format("the catalogue has no problem '{}' yet", row.problem);
-        break;
-      case LedgerRow::Kind::published: {
-        if (row.cases.empty()) {
-          e.verdict = kNotRun;
-          e.why = "no case of the suite measures it";
-          e.ours.assign(row.paper.size(), NAN);
-          break;
-        }
-        const auto it = ran.find(row.cases[0]);
-        if (it == ran.end()) {
-          e.verdict = kNotRun;
-          e.why = fmt::format("case {} did not run in this invocation", row.cases[0]);
-          e.ours.assign(row.paper.size(), NAN);
-          break;
-        }
-        std::vector<std::string> missing;
-        bool computed = false;  // whether any case of the study has the quantity at all
-        for (std::size_t i = 0; i < row.nodes.size(); ++i) {
-          double ours = NAN;
-          if (it->second.study)
-            for (const auto& r : it->second.study->cases) {
-              computed = computed || row.quantity == "error u" ||
-                         row.quantity == "error du/dx" || r.headline.count(row.quantity) > 0;
-              if (r.spec.nodes == row.nodes[i]) ours = our_published_value(r, row.quantity);
-            }
-          if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
-          e.ours.push_back(ours);
-          e.compared.push_back(compare_row(ours, row.paper[i], row));
-        }
-        e.verdict = combine(e.compared);
-        if (!it->second.study)
-          e.why = fmt::format("case {} could not run: {}", row.cases[0], it->second.error);
-        else if (!computed)
-          e.why = fmt::format("case {} computes no '{}'", row.cases[0], row.quantity);
-        else if (!missing.empty())
-          e.why = fmt::format("no finite value at {} nodes", fmt::join(missing, ", "));
-        break;
-      }
-      case LedgerRow::Kind::measure: {
-        double best = NAN;
-        std::vector<std::string> not_run, failed;
-        for (const auto& id : row.cases) {
-          const auto it = ran.find(id);
-          if (it == ran.end()) { not_run.push_back(id); continue; }
-          if (!it->second.study) { failed.push_back(id); continue; }
-          const double v = measure_value(*it->second.study, row.measure);
-          if (std::isfinite(v) && !(v <= best)) best = v;
-        }
-        if (!not_run.empty()) {
-          e.verdict = kNotRun;
-          e.why = not_run.size() == 1 ? fmt::format("case {} did not run in this invocation", not_run[0])
-                                      : fmt::format("{} of its cases did not run in this invocation", not_run.size());
-          e.ours = {NAN};
-          break;
-        }
-        e.ours = {best};
-        e.compared = {compare_row(best, row.paper[0], row)};
-        e.verdict = e.compared[0].verdict;
-        if (!failed.empty()) e.why = fmt::format("could not run: {}", fmt::join(failed, ", "));
-        break;
-      }
-      case LedgerRow::Kind::finding: {
-        if (!catalogue.problems.contains(row.problem)) {
-          e.verdict = kNotYetBuilt;
-          e.why = fmt::format("the catalogue has no problem '{}' yet", row.problem);
-          break;
-        }
-        const auto problem = create_problem(catalogue, row.problem, row.problem_params);
-        const auto findings = problem->findings();
-        const auto f = std::find_if(findings.begin(), findings.end(),
-                                    [&](const Finding& x) { return x.id == row.finding; });
-        if (f == findings.end()) {
-          e.verdict = kNotYetBuilt;
-          e.why = fmt::format("{} has no finding '{}' yet", row.problem, row.finding);
-          break;
-        }
-        e.criterion = f->criterion;
-        std::vector<StudyResult> studies;
-        for (const auto& mc : manifest.cases) {
-          if (mc.problem != row.problem) continue;
-          if (!params_match(resolved_case_params(catalogue, mc.problem, mc.problem_params),
-                            row.problem_params))
-            continue;
-          const auto it = ran.find(mc.id);
-          if (it != ran.end() && it->second.study) studies.push_back(*it->second.study);
-        }
-        if (studies.empty()) {
-          e.verdict = kNotRun;
-          e.why = fmt::format("no study of {} ran in this invocation", row.problem);
-          break;
-        }
-        const Verdict v = f->check(summarize(catalogue, studies));
-        e.ours_text = v.ours;
-        e.verdict = v.status == "not run" ? std::string(kNotRun) : v.status;
-        if (std::find(ledger_verdicts().begin(), ledger_verdicts().end(), e.verdict) ==
-            ledger_verdicts().end())
-          throw std::logic_error(fmt::format("finding {}:{} returned the verdict '{}'",
-                                             row.problem, row.finding, v.status));
-        break;
-      }
+    e.readings.push_back(measure_reading(row, catalogue, manifest, ran));
+    evaluate_checks(e.readings.back(), row.checks, catalogue, manifest, ran);
+    for (const auto& t : row.tries) {
+      e.readings.push_back(measure_reading(*t.row, catalogue, manifest, ran));
+      e.readings.back().reading = &t;
+      evaluate_checks(e.readings.back(), t.checks, catalogue, manifest, ran);
     }
-    if (e.verdict == kReproduced && !row.reading.empty()) e.verdict = kReproducedReading;
+    // The closest counted reading: best verdict, then smallest distance; the row's own
+    // reading wins a tie (it comes first).
+    for (std::size_t i = 1; i < e.readings.size(); ++i) {
+      const auto& a = e.readings[i];
+      const auto& b = e.readings[e.chosen];
+      if (a.reading->fitted) continue;
+      const int ra = verdict_rank(a.verdict), rb = verdict_rank(b.verdict);
+      if (ra < rb || (ra == rb && compared_verdict(a.verdict) && a.distance < b.distance))
+        e.chosen = i;
+    }
+    const LedgerReadingOutcome& c = e.readings[e.chosen];
+    e.read = c.row;
+    e.ours = c.ours;
+    e.compared = c.compared;
+    e.ours_text = c.ours_text;
+    e.criterion = c.criterion;
+    e.verdict = c.verdict;
+    e.why = c.why;
+    e.evidence = c.evidence;
+    e.reading = c.name();
+    const bool stated = c.reading != nullptr || !row.reading.empty();
+    if (e.verdict == kReproduced && stated) e.verdict = kReproducedReading;
     if (e.verdict != kReproduced && e.verdict != kReproducedReading &&
         e.verdict != kNotYetBuilt && e.verdict != kNotRun) {
       std::vector<std::string> parts;
       if (const std::string gap = gap_text(e); !gap.empty()) parts.push_back("gap " + gap);
+      if (c.reading) parts.push_back("closest reading: " + c.reading->name);
       if (!e.why.empty()) parts.push_back(e.why);
       if (!row.reason.empty()) parts.push_back(row.reason);
       e.why = fmt::format("{}", fmt::join(parts, "; "));
     } else if (e.verdict == kReproducedReading) {
-      e.why = "reading: " + row.reading;
+      e.why = "reading: " + e.reading;
     }
     out.push_back(std::move(e));
   }
@@ -578,29 +895,29 @@ std::string tolerance_text(const LedgerEntry& e) {
                                          : fmt::format("±{:g}", row.tolerance);
 }
 
-std::string comparison_text(const LedgerEntry& e) {
+std::string comparison_text(const LedgerRow& row, const std::vector<Comparison>& compared) {
   // Several values: the range of ratios (or differences), which is what the verdict reads.
-  if (e.compared.size() > 2) {
+  if (compared.size() > 2) {
     double lo = INFINITY, hi = -INFINITY;
     int finite = 0;
-    for (const auto& c : e.compared) {
-      const double v = e.row->compare == CompareBy::ratio ? c.ratio : c.difference;
+    for (const auto& c : compared) {
+      const double v = row.compare == CompareBy::ratio ? c.ratio : c.difference;
       if (!std::isfinite(v)) continue;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
       ++finite;
     }
     if (finite == 0) return "–";
-    const std::string range = e.row->compare == CompareBy::ratio
+    const std::string range = row.compare == CompareBy::ratio
                                   ? fmt::format("{:.3g} to {:.3g}", lo, hi)
                                   : fmt::format("{:+.3g} to {:+.3g}", lo, hi);
-    return finite < static_cast<int>(e.compared.size())
-               ? fmt::format("{} ({} of {} values)", range, finite, e.compared.size())
+    return finite < static_cast<int>(compared.size())
+               ? fmt::format("{} ({} of {} values)", range, finite, compared.size())
                : range;
   }
   std::vector<std::string> parts;
-  for (const auto& c : e.compared) {
-    if (e.row->compare == CompareBy::ratio && std::isfinite(c.ratio))
+  for (const auto& c : compared) {
+    if (row.compare == CompareBy::ratio && std::isfinite(c.ratio))
       parts.push_back(fmt::format("{:.3g}", c.ratio));
     else if (std::isfinite(c.difference))
       parts.push_back(fmt::format("{:+.3g}", c.difference));
@@ -610,27 +927,47 @@ std::string comparison_text(const LedgerEntry& e) {
   return fmt::format("{}", fmt::join(parts, ", "));
 }
 
-std::string paper_text(const LedgerEntry& e) {
-  if (e.row->paper.empty()) return "–";
-  std::string s = join_values(e.row->paper);
-  if (e.row->kind == LedgerRow::Kind::published && e.row->nodes.size() > 1)
-    s += fmt::format(" (n = {})", fmt::join(e.row->nodes, ", "));
-  else if (e.row->kind == LedgerRow::Kind::published)
-    s += fmt::format(" (n = {})", e.row->nodes[0]);
+std::string comparison_text(const LedgerEntry& e) { return comparison_text(*e.row, e.compared); }
+
+/// The paper's values with the resolutions `read` takes ours at.
+std::string paper_text(const LedgerRow& row, const LedgerRow& read) {
+  if (row.paper.empty()) return "–";
+  std::string s = join_values(row.paper);
+  if (read.kind == LedgerRow::Kind::published)
+    s += fmt::format(" (n = {})", fmt::join(read.nodes, ", "));
   return s;
 }
 
-std::string ours_text(const LedgerEntry& e) {
-  if (e.row->kind == LedgerRow::Kind::finding) return e.ours_text.empty() ? "–" : e.ours_text;
-  if (e.ours.empty()) return "–";
-  return join_values(e.ours);
+std::string paper_text(const LedgerEntry& e) { return paper_text(*e.row, *e.read); }
+
+std::string values_text(const LedgerRow& row, const std::vector<double>& ours,
+                        const std::string& text) {
+  if (row.kind == LedgerRow::Kind::finding) return text.empty() ? "–" : text;
+  if (ours.empty()) return "–";
+  return join_values(ours);
 }
 
+std::string ours_text(const LedgerEntry& e) { return values_text(*e.row, e.ours, e.ours_text); }
+
 std::string case_text(const LedgerRow& row) {
-  if (row.kind == LedgerRow::Kind::finding) return row.problem + ":" + row.finding;
+  if (row.kind == LedgerRow::Kind::finding) {
+    const std::string pp = row.problem_params.to_string();
+    return row.problem + ":" + row.finding + (pp.empty() ? "" : " (" + pp + ")");
+  }
   if (row.kind == LedgerRow::Kind::open) return row.problem;
   if (row.cases.empty()) return row.problem + " " + row.method;
-  return fmt::format("{}", fmt::join(row.cases, ", "));
+  std::string s = row.cases.size() > 2
+                      ? fmt::format("{} and {} more", row.cases.front(), row.cases.size() - 1)
+                      : fmt::format("{}", fmt::join(row.cases, ", "));
+  if (row.kind == LedgerRow::Kind::measure) {
+    s += ", " + row.measure;
+    if (is_rate_measure(row.measure))
+      s += row.statistic == RateStatistic::finest_pair ? " (finest pair)"
+           : row.statistic == RateStatistic::best_pair ? " (best pair)"
+                                                       : " (least squares)";
+  }
+  if (row.kind == LedgerRow::Kind::published) s += " · " + row.quantity;
+  return s;
 }
 
 /// A Markdown table cell: pipes escaped, one line, "–" when empty.
@@ -643,53 +980,281 @@ std::string cell(const std::string& text) {
   }
   return out.empty() ? std::string("–") : out;
 }
+
+/// The HTML anchor of a row's readings on the ledger page.
+std::string anchor(const LedgerRow& row) {
+  std::string a = "row-";
+  for (char ch : row.id) a += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
+  return a;
+}
+
+const std::map<std::string, std::string>& paper_titles() {
+  static const std::map<std::string, std::string> t = {
+      {"000", "000 — Belytschko & Xiao, stability of particle methods with corrected derivatives"},
+      {"001", "001 — Rabczuk, Belytschko & Xiao, stable particle methods based on Lagrangian kernels"},
+      {"003", "003 — Samaniego et al., stability of explicit enriched meshfree methods"},
+      {"004", "004 — Liu et al., reproducing kernel and wavelet particle methods (I–III)"},
+      {"other", "Other sources (closed forms, hydrostatics, experiments): our checks"}};
+  return t;
+}
+
+std::vector<std::string> paper_order() { return {"000", "001", "003", "004", "other"}; }
+
+/// Verdict columns of the counts table; the rest (not reached, not run, not yet built) is
+/// "other".
+struct Counts {
+  int claims = 0, reproduced = 0, reading = 0, partly = 0, not_reproduced = 0, other = 0;
+  int independent = 0, converged = 0, single = 0;
+  void add(const LedgerEntry& e) {
+    ++claims;
+    if (e.verdict == kReproduced) ++reproduced;
+    else if (e.verdict == kReproducedReading) ++reading;
+    else if (e.verdict == kPartly) ++partly;
+    else if (e.verdict == kNotReproduced) ++not_reproduced;
+    else ++other;
+    if (e.evidence == kEvidenceIndependent) ++independent;
+    else if (e.evidence == kEvidenceConverged) ++converged;
+    else if (e.evidence == kEvidenceSingle) ++single;
+  }
+  std::vector<std::string> cells() const {
+    auto n = [](int v) { return v == 0 ? std::string("·") : std::to_string(v); };
+    return {std::to_string(claims), n(reproduced), n(reading), n(partly), n(not_reproduced),
+            n(other), n(independent), n(converged), n(single)};
+  }
+};
+
+std::string counts_header(const std::string& first) {
+  return fmt::format(
+      "| {} | claims | reproduced | stated reading | partly | not reproduced | not run or "
+      "reached | independent | converged | single run |\n|:--|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
+      first);
+}
+
+std::string md_row(const std::vector<std::string>& cells) {
+  std::string s = "|";
+  for (const auto& c : cells) s += " " + cell(c) + " |";
+  return s + "\n";
+}
+
+/// "§3.1.2" before "§3.10", "I §6" before "II §7": digit runs compare as numbers.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i])),
+               db = std::isdigit(static_cast<unsigned char>(b[j]));
+    if (da && db) {
+      std::size_t ie = i, je = j;
+      while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie]))) ++ie;
+      while (je < b.size() && std::isdigit(static_cast<unsigned char>(b[je]))) ++je;
+      const long x = std::stol(a.substr(i, std::min<std::size_t>(ie - i, 9)));
+      const long y = std::stol(b.substr(j, std::min<std::size_t>(je - j, 9)));
+      if (x != y) return x < y;
+      i = ie;
+      j = je;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i;
+      ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+/// Counts per paper (and, with `sections`, per section of each paper).
+std::string counts_markdown(const std::vector<LedgerEntry>& entries, bool sections) {
+  std::map<std::string, Counts> per_paper;
+  std::map<std::string, std::map<std::string, Counts>> per_section;
+  std::map<std::string, std::vector<std::string>> section_order;
+  Counts all;
+  for (const auto& e : entries) {
+    const std::string p = ledger_paper(*e.row), s = ledger_section(*e.row);
+    per_paper[p].add(e);
+    auto& order = section_order[p];
+    if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
+    per_section[p][s].add(e);
+    all.add(e);
+  }
+  for (auto& [p, order] : section_order) std::sort(order.begin(), order.end(), natural_less);
+  std::string md = counts_header(sections ? "paper / section" : "paper");
+  for (const auto& p : paper_order()) {
+    if (!per_paper.count(p)) continue;
+    auto cells = per_paper[p].cells();
+    cells.insert(cells.begin(), sections ? "**" + paper_titles().at(p) + "**"
+                                         : paper_titles().at(p));
+    md += md_row(cells);
+    if (!sections) continue;
+    for (const auto& s : section_order[p]) {
+      auto sc = per_section[p][s].cells();
+      sc.insert(sc.begin(), "  " + s);
+      md += md_row(sc);
+    }
+  }
+  auto cells = all.cells();
+  cells.insert(cells.begin(), "**all**");
+  return md + md_row(cells);
+}
+
+std::string check_kind(const LedgerCheck& c) {
+  return c.kind == LedgerCheck::Kind::independent ? kEvidenceIndependent : kEvidenceConverged;
+}
+
+/// Every reading tried for a row and every check, as the ledger page shows them.
+std::string readings_markdown(const LedgerEntry& e) {
+  const LedgerRow& row = *e.row;
+  std::string md = fmt::format("<a id=\"{}\"></a>\n#### {}\n\n{} — {}  \n", anchor(row),
+                               row.id, row.source, row.claim);
+  md += fmt::format("Verdict **{}**, evidence **{}**, from the reading *{}*.", e.verdict,
+                    e.evidence, e.reading);
+  if (!row.reason.empty() && e.verdict != kReproduced && e.verdict != kReproducedReading)
+    md += " Best explanation of the gap: " + row.reason;
+  md += "\n\n| reading | the paper's words | measured by | ours | ours/paper (or −) | "
+        "verdict | evidence |\n|:--|:--|:--|--:|--:|:--|:--|\n";
+  for (std::size_t i = 0; i < e.readings.size(); ++i) {
+    const LedgerReadingOutcome& o = e.readings[i];
+    std::string name = o.name();
+    if (!o.reading) name += " (the row's own)";
+    if (o.reading && o.reading->fitted) name += " — fitted: shown for scale, not counted";
+    if (i == e.chosen) name = "**" + name + "** ← verdict";
+    const std::string quote = o.reading ? o.reading->quote : row.quote;
+    md += md_row({name, quote, case_text(*o.row),
+                  values_text(*o.row, o.ours, o.ours_text) +
+                      (o.row->kind == LedgerRow::Kind::published
+                           ? fmt::format(" (n = {})", fmt::join(o.row->nodes, ", "))
+                           : ""),
+                  comparison_text(*o.row, o.compared),
+                  o.verdict + (o.why.empty() || compared_verdict(o.verdict) ? "" : ": " + o.why),
+                  o.evidence});
+  }
+  bool any_check = false;
+  for (const auto& o : e.readings) any_check = any_check || !o.checks.empty();
+  if (any_check) {
+    md += "\nChecks (a second computation of a reading's value):\n\n| reading | kind | route | "
+          "measured by | value | agrees |\n|:--|:--|:--|:--|--:|:--|\n";
+    for (const auto& o : e.readings)
+      for (const auto& c : o.checks)
+        md += md_row({o.name(), check_kind(*c.check), c.check->route, case_text(*c.check->row),
+                      values_text(*c.check->row, c.values, c.ours_text),
+                      c.agrees ? "yes" : fmt::format("no ({})", c.verdict)});
+  }
+  return md + "\n";
+}
+
 }  // namespace
 
-std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
-  // Unpadded rows: the ledger is the report's longest table and padding would triple it.
-  std::string md =
-      "| id | source | claim | measured by | paper | ours | ours/paper (or −) | tolerance | "
-      "verdict | reason, reading |\n|:--|:--|:--|:--|--:|--:|--:|:--|:--|:--|\n";
-  for (const auto& e : entries) {
-    const LedgerRow& row = *e.row;
-    std::string by = case_text(row);
-    if (row.cases.size() > 2) by = fmt::format("{} and {} more", row.cases.front(), row.cases.size() - 1);
-    std::string why = e.why;
-    if (e.verdict != kReproduced && e.verdict != kReproducedReading &&
-        e.verdict != kNotRun && e.verdict != kNotYetBuilt) {
-      // The gap is in the ratio column; the reason here.
-      std::vector<std::string> parts;
-      if (!row.reason.empty()) parts.push_back(row.reason);
-      if (!row.reading.empty()) parts.push_back("reading: " + row.reading);
-      why = fmt::format("{}", fmt::join(parts, "; "));
+std::string ledger_paper(const LedgerRow& row) {
+  // The id's prefix, else the source's first word ("004 II Table 1").
+  for (const char* p : {"000", "001", "003", "004"})
+    if (row.id.rfind(std::string(p) + "-", 0) == 0 || row.source.rfind(std::string(p) + " ", 0) == 0)
+      return p;
+  return "other";
+}
+
+std::string ledger_section(const LedgerRow& row) {
+  const std::string& s = row.source;
+  std::string part;
+  // 004 has three papers: "004 I", "004 II", "004 III".
+  for (const char* p : {"III", "II", "I"})
+    if (s.rfind(std::string("004 ") + p + " ", 0) == 0 ||
+        s.rfind(std::string("004 ") + p + ",", 0) == 0) {
+      part = std::string(p) + " ";
+      break;
     }
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | **{}** | {} |\n", cell(row.id),
-                      cell(row.source), cell(row.claim), cell(by), cell(paper_text(e)),
-                      cell(ours_text(e)), cell(comparison_text(e)), cell(tolerance_text(e)),
-                      e.verdict, cell(why));
+  const auto at = s.find("§");
+  if (at == std::string::npos) {
+    for (const char* w : {"Table", "Fig."}) {
+      const auto t = s.find(w);
+      if (t != std::string::npos) {
+        auto end = s.find_first_of(",;(", t);
+        return part + s.substr(t, end == std::string::npos ? std::string::npos : end - t);
+      }
+    }
+    return part.empty() ? s : part + "–";
+  }
+  std::size_t end = at + std::string("§").size();
+  while (end < s.size() && (std::isdigit(static_cast<unsigned char>(s[end])) || s[end] == '.'))
+    ++end;
+  while (end > at && s[end - 1] == '.') --end;
+  return part + s.substr(at, end - at);
+}
+
+std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
+  std::string md = "## Counts by paper and section\n\n" + counts_markdown(entries, true) +
+                   "\nEvidence: **independent** (a second computation by another route agrees "
+                   "within the row's tolerance), **converged** (a finer resolution, quadrature or "
+                   "time step moves ours by less than the tolerance), **single run** (no check "
+                   "agrees, or none exists).\n\n";
+  for (const auto& p : paper_order()) {
+    std::vector<const LedgerEntry*> mine;
+    for (const auto& e : entries)
+      if (ledger_paper(*e.row) == p) mine.push_back(&e);
+    if (mine.empty()) continue;
+    md += fmt::format("## {}\n\n", paper_titles().at(p));
+    md += "| id | source | claim | paper | ours | ours/paper (or −) | tolerance | verdict | "
+          "evidence | reading (of those tried) |\n|:--|:--|:--|--:|--:|--:|:--|:--|:--|:--|\n";
+    for (const LedgerEntry* e : mine) {
+      const LedgerRow& row = *e->row;
+      const std::string tried = e->readings.size() > 1
+                                    ? fmt::format("{} ([{} tried](#{}))", e->reading,
+                                                  e->readings.size(), anchor(row))
+                                    : fmt::format("{} ([details](#{}))", e->reading, anchor(row));
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | **{}** | {} | {} |\n",
+                        cell(row.id), cell(row.source), cell(row.claim), cell(paper_text(*e)),
+                        cell(ours_text(*e)), cell(comparison_text(*e)), cell(tolerance_text(*e)),
+                        e->verdict, cell(e->evidence), cell(tried));
+    }
+    md += "\n";
+  }
+  md += "## Readings tried and checks, per row\n\nThe verdict is that of the closest reading "
+        "that is not fitted (best verdict, then nearest the paper); the row's own reading wins "
+        "a tie.\n\n";
+  for (const auto& e : entries) {
+    md += readings_markdown(e);
+    if (!e.why.empty() && e.verdict != kReproduced) md += "Gap and reason: " + e.why + "\n\n";
   }
   return md;
 }
 
 std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries) {
-  std::string md = "| id | source | claim | ours/paper (or −) | verdict |\n|:--|:--|:--|--:|:--|\n";
+  std::string md = counts_markdown(entries, false) + "\n";
+  md += "| id | source | claim | ours/paper (or −) | verdict | evidence |\n"
+        "|:--|:--|:--|--:|:--|:--|\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     const bool compared = row.kind == LedgerRow::Kind::published ||
                           row.kind == LedgerRow::Kind::measure;
-    md += fmt::format("| {} | {} | {} | {} | **{}** |\n", cell(row.id), cell(row.source),
-                      cell(row.claim), compared ? cell(comparison_text(e)) : "–", e.verdict);
+    md += fmt::format("| {} | {} | {} | {} | **{}** | {} |\n", cell(row.id), cell(row.source),
+                      cell(row.claim), compared ? cell(comparison_text(e)) : "–", e.verdict,
+                      cell(e.evidence));
   }
   return md;
 }
 
 std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   std::string out =
-      "id,source,claim,measured_by,paper,ours,comparison,tolerance,compare,verdict,gap_reason\n";
+      "id,paper_id,section,source,claim,measured_by,paper,ours,comparison,tolerance,compare,"
+      "verdict,evidence,reading,readings_tried,checks,gap_reason\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
+    std::vector<std::string> tried, checks;
+    for (std::size_t i = 0; i < e.readings.size(); ++i) {
+      const auto& o = e.readings[i];
+      tried.push_back(fmt::format(
+          "{}{}{}: {} [{}] {} → {}", i == e.chosen ? "* " : "", o.name(),
+          o.reading && o.reading->fitted ? " (fitted, not counted)" : "", case_text(*o.row),
+          o.row->kind == LedgerRow::Kind::finding ? values_text(*o.row, o.ours, o.ours_text)
+                                                   : join_values(o.ours, true),
+          comparison_text(*o.row, o.compared), o.verdict));
+      for (const auto& c : o.checks)
+        checks.push_back(fmt::format(
+            "{} check of {}: {}: {} = {} → {}", check_kind(*c.check), o.name(), c.check->route,
+            case_text(*c.check->row),
+            c.check->row->kind == LedgerRow::Kind::finding ? c.ours_text
+                                                            : join_values(c.values, true),
+            c.agrees ? "agrees" : "differs (" + c.verdict + ")"));
+    }
     const std::vector<std::string> fields = {
-        row.id, row.source, row.claim, case_text(row), join_values(row.paper, true),
+        row.id, ledger_paper(row), ledger_section(row), row.source, row.claim,
+        case_text(*e.read), join_values(row.paper, true),
         row.kind == LedgerRow::Kind::finding ? ours_text(e) : join_values(e.ours, true),
         comparison_text(e),
         row.kind == LedgerRow::Kind::finding ? e.criterion
@@ -700,7 +1265,8 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
         : row.bound == LedgerRow::Bound::at_most  ? "at_most"
         : row.compare == CompareBy::ratio    ? "ratio"
                                              : "difference",
-        e.verdict, e.why};
+        e.verdict, e.evidence, e.reading, fmt::format("{}", fmt::join(tried, " | ")),
+        fmt::format("{}", fmt::join(checks, " | ")), e.why};
     std::vector<std::string> quoted;
     for (const auto& f : fields) quoted.push_back(csv_field(f));
     out += fmt::format("{}\n", fmt::join(quoted, ","));

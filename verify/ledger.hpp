@@ -75,6 +75,7 @@
 // else "single run"; a check that disagrees is listed with its value.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -94,9 +95,38 @@ inline constexpr const char* kNotRun = "not run";  ///< its case did not run in 
 /// The verdicts in the order the summary counts them.
 const std::vector<std::string>& ledger_verdicts();
 
+/// How a measure row reads a convergence rate off a study (004 II eq 7.3 defines the rate as
+/// a slope of ln error against ln Δx; a paper's "as high as" may be a local slope).
+enum class RateStatistic {
+  least_squares,  ///< the least-squares slope over every resolution
+  finest_pair,    ///< the slope between the two finest resolutions
+  best_pair,      ///< the largest slope between successive resolutions
+};
+
+struct LedgerRow;
+
+/// A second computation of a reading's value: the row's evidence.
+struct LedgerCheck {
+  enum class Kind { independent, converged };
+  Kind kind = Kind::converged;
+  std::string route;  ///< what the second computation is
+  int line = 0;
+  std::shared_ptr<const LedgerRow> row;  ///< the reading with the check's replacements
+};
+
+/// Another reading of the claim that the paper's text allows ([[row.try]]).
+struct LedgerReading {
+  std::string name, quote;
+  bool fitted = false;  ///< a constant fitted to the paper's numbers: shown, never counted
+  int line = 0;
+  std::shared_ptr<const LedgerRow> row;  ///< the row with the reading's replacements
+  std::vector<LedgerCheck> checks;
+};
+
 struct LedgerRow {
   enum class Kind { published, measure, finding, open };
   std::string id, source, claim, reading, reason;
+  std::string quote;  ///< the paper's words behind the row's own reading
   Kind kind = Kind::open;
   int line = 0;
   std::vector<std::string> cases;  ///< published: at most one; measure: one or more
@@ -113,7 +143,10 @@ struct LedgerRow {
   /// the tolerance (relative) applies only on the other. 0: two-sided.
   enum class Bound { none, at_least, at_most } bound = Bound::none;
   std::string measure;  ///< measure rows
+  RateStatistic statistic = RateStatistic::least_squares;  ///< measure rows of a rate
   std::string finding;  ///< finding rows: the Finding::id
+  std::vector<LedgerReading> tries;  ///< the other readings tried (the reading search)
+  std::vector<LedgerCheck> checks;   ///< evidence for the row's own reading
 };
 
 struct Ledger {
@@ -132,15 +165,52 @@ struct CaseOutcome {
   std::string error;
 };
 
-/// One evaluated row.
+/// One check of a reading, evaluated.
+struct LedgerCheckOutcome {
+  const LedgerCheck* check = nullptr;
+  std::vector<double> values;  ///< value rows: the check's values (NaN: not reached)
+  std::string ours_text;       ///< finding rows: the check's numbers
+  std::string verdict;         ///< the check's own verdict against the paper
+  bool agrees = false;         ///< within the row's tolerance of the reading (or same verdict)
+};
+
+/// One reading of a row (its own, or a try), evaluated.
+struct LedgerReadingOutcome {
+  const LedgerRow* row = nullptr;          ///< the reading's row
+  const LedgerReading* reading = nullptr;  ///< null: the row's own reading
+  std::vector<double> ours;
+  std::vector<Comparison> compared;
+  std::string ours_text, criterion;
+  std::string verdict;  ///< as compared, before a stated reading is named
+  std::string why;      ///< why it could not be compared (not run, could not run, …)
+  /// How far from the paper: the largest |ln(ours/paper)| (ratio rows) or
+  /// |ours − paper|/tolerance (difference rows); 0 for findings; ∞ when not compared.
+  double distance = 0;
+  std::vector<LedgerCheckOutcome> checks;
+  std::string evidence;  ///< kEvidence*, or "–" when the reading did not run
+  /// The reading's name: the try's, the row's stated reading, or "as printed".
+  std::string name() const;
+};
+
+/// Evidence words: how sure ours is.
+inline constexpr const char* kEvidenceIndependent = "independent";
+inline constexpr const char* kEvidenceConverged = "converged";
+inline constexpr const char* kEvidenceSingle = "single run";
+
+/// One evaluated row: the verdict, values and evidence of the closest counted reading.
 struct LedgerEntry {
   const LedgerRow* row = nullptr;
+  const LedgerRow* read = nullptr;  ///< the reading the verdict comes from (row or a try's)
   std::vector<double> ours;       ///< per paper value (NaN: not reached or not run)
   std::vector<Comparison> compared;
   std::string ours_text;          ///< finding rows: the measured numbers behind the verdict
   std::string criterion;          ///< finding rows: how the verdict is decided
   std::string verdict;            ///< one of ledger_verdicts()
   std::string why;                ///< the gap and the reason, or why it is open / not run
+  std::string evidence;           ///< kEvidence*, or "–" (not run, not yet built)
+  std::string reading;            ///< the name of the reading the verdict comes from
+  std::vector<LedgerReadingOutcome> readings;  ///< [0] the row's own, then every try
+  std::size_t chosen = 0;         ///< index into readings
 };
 
 /// Evaluates every row on the cases that ran (`ran`: case id → outcome; a case absent from
@@ -154,13 +224,20 @@ std::map<std::string, int> count_verdicts(const std::vector<LedgerEntry>& entrie
 /// "31 reproduced, 4 reproduced under a stated reading, …" (non-zero counts, in order).
 std::string verdict_counts_line(const std::vector<LedgerEntry>& entries);
 
-/// The ledger as a Markdown table (id, source, claim, paper, ours, ratio/difference,
-/// tolerance, verdict, gap/reason).
+/// The paper a row belongs to ("000", "001", "003", "004", or "other" for claims of other
+/// sources) and its section ("II §7", "§9.2", …, from the row's source).
+std::string ledger_paper(const LedgerRow& row);
+std::string ledger_section(const LedgerRow& row);
+
+/// The ledger page, by paper: verdict and evidence counts per paper and section, then per
+/// paper the rows (id, claim, paper, ours, ratio/difference, tolerance, verdict, evidence,
+/// reading), then per row the readings tried and the checks.
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries);
-/// The ledger as index.md shows it: one short row per claim (id, source, claim, ours/paper,
-/// verdict); the full table (ledger_markdown) is on its own page.
+/// The ledger as index.md shows it: the counts per paper, then one short row per claim (id,
+/// source, claim, ours/paper, verdict, evidence); the full page (ledger_markdown) is apart.
 std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries);
-/// ledger.csv (RFC 4180 quoting).
+/// ledger.csv (RFC 4180 quoting): a row per claim, with its evidence, the reading its verdict
+/// comes from, and every reading and check tried with its values.
 std::string ledger_csv(const std::vector<LedgerEntry>& entries);
 
 /// Our value of a published quantity in one case: "error u" is the relative L2 error on the

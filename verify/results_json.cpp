@@ -308,6 +308,78 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       r["criterion"] = e.criterion;
       r["ours_text"] = e.ours_text;
     }
+    r["paper_id"] = ledger_paper(row);
+    r["section"] = ledger_section(row);
+    if (!row.quote.empty()) r["quote"] = row.quote;
+    r["evidence"] = e.evidence;
+    r["reading_used"] = e.reading;
+    // The reading search: every reading tried (the row's own first) and its checks.
+    const bool values = row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure;
+    json readings = json::array();
+    for (std::size_t k = 0; k < e.readings.size(); ++k) {
+      const LedgerReadingOutcome& o = e.readings[k];
+      const std::string rp = fmt::format("{}/readings/{}", p, k);
+      json rd = {{"name", o.name()},
+                 {"own", o.reading == nullptr},
+                 {"fitted", o.reading != nullptr && o.reading->fitted},
+                 {"chosen", k == e.chosen},
+                 {"verdict", o.verdict},
+                 {"evidence", o.evidence},
+                 {"cases", o.row->cases}};
+      const std::string quote = o.reading ? o.reading->quote : row.quote;
+      if (!quote.empty()) rd["quote"] = quote;
+      if (!o.why.empty()) rd["why"] = o.why;
+      if (o.row->kind == LedgerRow::Kind::published) {
+        rd["nodes"] = o.row->nodes;
+        rd["quantity"] = o.row->quantity;
+      }
+      if (o.row->kind == LedgerRow::Kind::measure) {
+        rd["measure"] = o.row->measure;
+        rd["statistic"] = o.row->statistic == RateStatistic::finest_pair ? "finest_pair"
+                          : o.row->statistic == RateStatistic::best_pair ? "best_pair"
+                                                                         : "least_squares";
+      }
+      if (o.row->kind == LedgerRow::Kind::finding) {
+        rd["finding"] = o.row->problem + ":" + o.row->finding;
+        rd["ours_text"] = o.ours_text;
+      }
+      if (values) {
+        json ours = json::array(), ratio = json::array();
+        for (std::size_t i = 0; i < o.ours.size(); ++i)
+          ours.push_back(n.number(o.ours[i], fmt::format("{}/ours/{}", rp, i),
+                                  o.why.empty() ? o.verdict : o.verdict + ": " + o.why));
+        for (std::size_t i = 0; i < o.compared.size(); ++i)
+          ratio.push_back(n.number(o.compared[i].ratio, fmt::format("{}/ratio/{}", rp, i),
+                                   "ours is missing or the paper's value is 0"));
+        rd["ours"] = ours;
+        rd["ratio"] = ratio;
+      }
+      json checks = json::array();
+      for (std::size_t c = 0; c < o.checks.size(); ++c) {
+        const LedgerCheckOutcome& co = o.checks[c];
+        json cj = {{"kind", co.check->kind == LedgerCheck::Kind::independent ? "independent"
+                                                                             : "converged"},
+                   {"route", co.check->route},
+                   {"cases", co.check->row->cases},
+                   {"verdict", co.verdict},
+                   {"agrees", co.agrees}};
+        if (co.check->row->kind == LedgerRow::Kind::finding) {
+          cj["finding"] = co.check->row->problem + ":" + co.check->row->finding;
+          cj["ours_text"] = co.ours_text;
+        } else {
+          json vals = json::array();
+          for (std::size_t i = 0; i < co.values.size(); ++i)
+            vals.push_back(n.number(co.values[i], fmt::format("{}/checks/{}/values/{}", rp, c, i),
+                                    "the check gave no finite value: " + co.ours_text));
+          cj["values"] = vals;
+          if (co.check->row->kind == LedgerRow::Kind::published) cj["nodes"] = co.check->row->nodes;
+        }
+        checks.push_back(std::move(cj));
+      }
+      rd["checks"] = checks;
+      readings.push_back(std::move(rd));
+    }
+    r["readings"] = readings;
     rows.push_back(std::move(r));
   }
   return {{"ledger_file", ledger.path.string()}, {"counts", counts}, {"rows", rows}};
