@@ -74,6 +74,27 @@ std::vector<PublishedRow> published_rows(const Problem& problem,
 /// problem's published_notes. Empty without published values and notes.
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
                             const Params& problem_defaults = {});
+/// One finding of a problem checked on the studies that ran.
+struct FindingOutcome {
+  const Finding* finding = nullptr;
+  Verdict verdict;
+  /// For a finding that could not be judged ("not run"): what did run, so that "no study of
+  /// kbm-si" is never read as "kbm-si did not run" when it ran under other conditions.
+  std::string ran;
+};
+
+/// Checks every finding of `findings` (a problem's) on `studies` (summarized once). A study
+/// belongs to the problem's findings whatever its method parameters; each finding matches
+/// the studies it needs by method and parameters itself.
+std::vector<FindingOutcome> check_findings(const Registries& plugins,
+                                           const std::vector<Finding>& findings,
+                                           const std::vector<StudyResult>& studies);
+
+/// The findings as `mfv study` and `compare` print them after their tables: one line per
+/// finding (verdict, source, claim, ours). Empty when the problem has none.
+std::string findings_text(const Registries& plugins, const Problem& problem,
+                          const std::vector<StudyResult>& studies);
+
 /// The body of a page's findings part: each finding of the papers with its verdict on our
 /// studies. Empty when the problem has no findings.
 std::string findings_block(const Registries& plugins, const Problem& problem,

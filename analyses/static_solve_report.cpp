@@ -53,17 +53,53 @@ std::vector<StudySummary> summarize(const Registries& plugins,
   return out;
 }
 
+std::vector<FindingOutcome> check_findings(const Registries& plugins,
+                                           const std::vector<Finding>& findings,
+                                           const std::vector<StudyResult>& studies) {
+  std::vector<FindingOutcome> out;
+  if (findings.empty()) return out;
+  const auto summaries = summarize(plugins, studies);
+  std::vector<std::string> ran;
+  for (const auto& s : summaries) {
+    const std::string pp = s.problem_params.to_string();
+    ran.push_back(fmt::format("{} at {} resolution{}{}", s.label, s.resolutions,
+                              s.resolutions == 1 ? "" : "s", pp.empty() ? "" : " (" + pp + ")"));
+  }
+  for (const auto& f : findings) {
+    FindingOutcome o;
+    o.finding = &f;
+    o.verdict = f.check(summaries);
+    if (o.verdict.status == "not run")
+      o.ran = ran.empty() ? "no study ran" : fmt::format("ran: {}", fmt::join(ran, "; "));
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+std::string findings_text(const Registries& plugins, const Problem& problem,
+                          const std::vector<StudyResult>& studies) {
+  const auto findings = problem.findings();
+  const auto outcomes = check_findings(plugins, findings, studies);
+  if (outcomes.empty()) return "";
+  std::string text = fmt::format("Findings of the papers, checked on the studies above ({}):\n",
+                                 outcomes.size());
+  for (const auto& o : outcomes)
+    text += fmt::format("  {:<16} {}: {}\n  {:<16} ours: {}{}\n", o.verdict.status,
+                        o.finding->source, o.finding->claim, "", o.verdict.ours,
+                        o.ran.empty() ? "" : " (" + o.ran + ")");
+  return text;
+}
+
 std::string findings_block(const Registries& plugins, const Problem& problem,
                            const std::vector<StudyResult>& studies) {
   const auto findings = problem.findings();
   if (findings.empty()) return "";
-  const auto summaries = summarize(plugins, studies);
   MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
                   {'l', 'l', 'l', 'l', 'l'});
-  for (const auto& f : findings) {
-    const Verdict v = f.check(summaries);
-    t.add_row({f.source, f.claim, f.criterion, "**" + v.status + "**", v.ours});
-  }
+  for (const auto& o : check_findings(plugins, findings, studies))
+    t.add_row({o.finding->source, o.finding->claim, o.finding->criterion,
+               "**" + o.verdict.status + "**",
+               o.ran.empty() ? o.verdict.ours : o.verdict.ours + " (" + o.ran + ")"});
   return t.str() + "\n";
 }
 

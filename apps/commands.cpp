@@ -435,6 +435,9 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
   }
   if (!done.empty()) print_rate_table(c, done, out);
   for (const auto& f : failures) out << "could not run: " << f << "\n";
+  // The problem's findings, checked on the studies just run (the same verdicts as the
+  // report's page and results.json), with or without a report.
+  if (!done.empty()) out << findings_text(c, *problem, done);
 
   if (staged) {
     if (sections.empty()) {

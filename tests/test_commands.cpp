@@ -239,6 +239,34 @@ TEST_F(Commands, StudyPrintsTheConvergenceTable) {
     EXPECT_TRUE(std::regex_search(t, std::regex(n))) << n << "\n" << t;
 }
 
+/// Issue 25 item 9: study and compare judge the problem's findings on the studies they ran
+/// (matched by method and parameters), not only on manifest cases; a finding that needs a
+/// study that did not run says what did run.
+TEST_F(Commands, CompareChecksTheFindingsOnTheStudiesItRan) {
+  CompareOptions o;
+  o.problem = "cantilever";
+  o.methods = {"efg-ci", "kbm-si"};
+  o.nodes = {5, 9, 17};
+  std::ostringstream out, progress;
+  ASSERT_EQ(command_compare(catalogue_, o, out, progress), 0);
+  const std::string t = out.str();
+  ASSERT_NE(t.find("Findings of the papers, checked on the studies above"), std::string::npos) << t;
+  // efg-ci and kbm-si ran: the findings about them have a verdict, never "not run".
+  for (const char* claim : {"EFG with cell integration gives the best results",
+                            "KBM with stress points: displacement rate close to 2"}) {
+    const auto at = t.find(claim);
+    ASSERT_NE(at, std::string::npos) << claim << "\n" << t;
+    const auto line = t.rfind('\n', at);
+    EXPECT_EQ(t.substr(line + 1, at - line - 1).find("not run"), std::string::npos)
+        << claim << "\n" << t;
+  }
+  // A finding about a method that did not run names what ran.
+  EXPECT_NE(t.find("no study of rlm or kbm-ni (ran: efg-ci at 3 resolutions; kbm-si at 3 "
+                   "resolutions)"),
+            std::string::npos)
+      << t;
+}
+
 TEST_F(Commands, CompareRefusesUnknownParametersListingValidOnes) {
   CompareOptions o;
   o.problem = "laplace-tanh";

@@ -133,33 +133,43 @@ json published_json(const Registries& catalogue, const StudyResult& study, const
   return out;
 }
 
-/// Every finding of the studies' problems, checked on those studies.
+/// Every finding of the studies' problems, checked on those studies: one group per problem
+/// and set of problem parameters (the findings of a problem read its studies under the same
+/// conditions), each finding matching its studies by method and parameters itself.
 json findings_json(const Registries& catalogue, const std::vector<StudyResult>& studies) {
   json out = json::array();
-  std::vector<std::string> problems;
-  for (const auto& s : studies)
-    if (!s.cases.empty() &&
-        std::find(problems.begin(), problems.end(), s.cases.front().spec.problem) == problems.end())
-      problems.push_back(s.cases.front().spec.problem);
-  for (const auto& name : problems) {
+  std::vector<std::pair<std::string, Params>> groups;
+  auto key = [](const StudyResult& s) {
+    return std::make_pair(s.cases.front().spec.problem, s.cases.front().spec.problem_params);
+  };
+  for (const auto& s : studies) {
+    if (s.cases.empty()) continue;
+    const auto k = key(s);
+    if (std::none_of(groups.begin(), groups.end(), [&](const auto& g) {
+          return g.first == k.first && g.second.to_string() == k.second.to_string();
+        }))
+      groups.push_back(k);
+  }
+  for (const auto& [name, params] : groups) {
     if (!catalogue.problems.contains(name)) continue;
     std::vector<StudyResult> mine;
-    Params params;
     for (const auto& s : studies)
-      if (!s.cases.empty() && s.cases.front().spec.problem == name) {
-        if (mine.empty()) params = s.cases.front().spec.problem_params;
+      if (!s.cases.empty() && key(s).first == name &&
+          key(s).second.to_string() == params.to_string())
         mine.push_back(s);
-      }
     const auto problem = create_problem(catalogue, name, params);
-    for (const auto& f : problem->findings()) {
-      const Verdict v = f.check(summarize(catalogue, mine));
-      out.push_back({{"problem", name},
-                     {"id", f.id},
-                     {"source", f.source},
-                     {"claim", f.claim},
-                     {"criterion", f.criterion},
-                     {"verdict", v.status},
-                     {"ours", v.ours}});
+    const auto findings = problem->findings();
+    for (const auto& o : check_findings(catalogue, findings, mine)) {
+      json f = {{"problem", name},
+                {"id", o.finding->id},
+                {"source", o.finding->source},
+                {"claim", o.finding->claim},
+                {"criterion", o.finding->criterion},
+                {"verdict", o.verdict.status},
+                {"ours", o.verdict.ours}};
+      if (!params.values().empty()) f["problem_params"] = params.to_string();
+      if (!o.ran.empty()) f["ran"] = o.ran;
+      out.push_back(std::move(f));
     }
   }
   return out;
