@@ -112,8 +112,19 @@ TEST(Ledger, EveryPublishedValueAndFindingIsNamedByARow) {
     for (const auto& f : problem->findings()) {
       EXPECT_FALSE(f.id.empty()) << name << ": the finding '" << f.claim << "' has no id";
       EXPECT_TRUE(ids.insert(f.id).second) << name << ": duplicate finding id " << f.id;
-      const bool named = std::any_of(l.rows.begin(), l.rows.end(), [&](const LedgerRow& r) {
+      // A row names it, or a reading tried or a check of a row (a finding that restates
+      // another under a paper's own reading, or checks it another way).
+      auto names_it = [&](const LedgerRow& r) {
         return r.kind == LedgerRow::Kind::finding && r.problem == name && r.finding == f.id;
+      };
+      const bool named = std::any_of(l.rows.begin(), l.rows.end(), [&](const LedgerRow& r) {
+        bool any = names_it(r);
+        for (const auto& c : r.checks) any = any || names_it(*c.row);
+        for (const auto& t : r.tries) {
+          any = any || names_it(*t.row);
+          for (const auto& c : t.checks) any = any || names_it(*c.row);
+        }
+        return any;
       });
       EXPECT_TRUE(named) << name << ": finding '" << f.id << "' (" << f.claim
                          << ") has no ledger row";
@@ -567,6 +578,37 @@ case = "fem-b"
   EXPECT_NE(md.find("[2 tried](#row-t1-fem)"), std::string::npos);
   EXPECT_NE(md.find("“five different discretizations”"), std::string::npos);
   EXPECT_NE(md.find("**study b** ← verdict"), std::string::npos);
+}
+
+TEST(LedgerReadings, AFindingMayBeJudgedOnNamedCasesOnly) {
+  const Fixture f(R"([[row]]
+id = "fig3"
+source = "004 II Fig. 3"
+claim = "SPH Galerkin boundary gradient"
+finding = "laplace-tanh:sph-galerkin-boundary-gradient"
+quote = "q"
+
+[[row.try]]
+name = "fem only"
+quote = "q"
+cases = ["fem-b"]
+)");
+  const Ledger l = f.load();
+  ASSERT_EQ(l.rows[0].tries.at(0).row->cases, std::vector<std::string>{"fem-b"});
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {3.32, 6.03}, 1.97);
+  // fem-b did not run: the try is not run (never judged on the other studies).
+  auto e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&a, ""}}})[0];
+  EXPECT_EQ(e.readings[1].verdict, kNotRun);
+  EXPECT_NE(e.readings[1].why.find("fem-b did not run"), std::string::npos) << e.readings[1].why;
+  // A case of another problem is refused.
+  const Fixture g(replace(std::string(R"([[row]]
+id = "fig3"
+source = "004 II Fig. 3"
+claim = "c"
+finding = "laplace-tanh:sph-galerkin-boundary-gradient"
+cases = ["diffusion-fem"]
+)"), "", ""));
+  EXPECT_THROW(g.load(), InputError);
 }
 
 TEST(LedgerReadings, PaperAndSectionComeFromTheRow) {

@@ -335,12 +335,21 @@ void check_cases_exist(const Reporter& r, const LedgerRow& row, const Manifest& 
              "name a case id of the manifest (mfv verify --case lists them)");
 }
 
+/// A finding row's cases, when it names them, are studies of its problem.
+void check_finding_cases(const Reporter& r, const LedgerRow& row, const Manifest& manifest) {
+  for (const auto& id : row.cases)
+    if (const ManifestCase* mc = find_case(manifest, id); mc && mc->problem != row.problem)
+      r.fail(row.line, fmt::format("row '{}' judges {}:{} on the case '{}' of problem '{}'",
+                                   row.id, row.problem, row.finding, id, mc->problem),
+             fmt::format("name cases of {} only", row.problem));
+}
+
 /// What a try or a check may replace in a row of each kind (the rest it inherits).
 std::vector<std::string> replaceable(LedgerRow::Kind kind) {
   switch (kind) {
     case LedgerRow::Kind::published: return {"case", "nodes", "quantity"};
     case LedgerRow::Kind::measure: return {"cases", "measure", "statistic"};
-    case LedgerRow::Kind::finding: return {"finding", "problem_params"};
+    case LedgerRow::Kind::finding: return {"finding", "problem_params", "cases"};
     case LedgerRow::Kind::open: return {};
   }
   return {};
@@ -376,6 +385,13 @@ std::shared_ptr<const LedgerRow> variant_of(const Reporter& r, const LedgerRow& 
     v->cases = get_strings(r, *c, "cases");
     check_cases_exist(r, *v, manifest);
   }
+  if (t.get("finding") || t.get("cases")) {
+    if (base.kind == LedgerRow::Kind::finding) {
+      if (t.get("finding"))
+        set_finding(r, *v, get_string(r, t, "finding", true, v->line), catalogue);
+      check_finding_cases(r, *v, manifest);
+    }
+  }
   if (const auto* n = t.get("nodes")) {
     v->nodes = get_nodes(r, *n);
     if (v->nodes.size() != v->paper.size())
@@ -392,8 +408,8 @@ std::shared_ptr<const LedgerRow> variant_of(const Reporter& r, const LedgerRow& 
   }
   if (t.get("statistic")) v->statistic = parse_statistic(r, t, v->line);
   if (t.get("problem_params")) v->problem_params = get_params(r, t, "problem_params");
-  if (t.get("finding")) set_finding(r, *v, get_string(r, t, "finding", true, v->line), catalogue);
-  else if (t.get("problem_params")) set_finding(r, *v, v->problem + ":" + v->finding, catalogue);
+  if (t.get("problem_params") && !t.get("finding"))
+    set_finding(r, *v, v->problem + ":" + v->finding, catalogue);
   return v;
 }
 
@@ -588,6 +604,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     } else if (!finding.empty()) {
       row.kind = LedgerRow::Kind::finding;
       set_finding(r, row, finding, catalogue);
+      check_finding_cases(r, row, manifest);
     } else {
       row.kind = LedgerRow::Kind::open;
       if (row.problem.empty())
@@ -742,7 +759,24 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       }
       e.criterion = f->criterion;
       std::vector<StudyResult> studies;
+      // Named cases: the finding is judged on those studies only (a paper's own method or
+      // particle counts); each must have run.
+      if (!row.cases.empty()) {
+        std::vector<std::string> not_run;
+        for (const auto& id : row.cases) {
+          const auto it = ran.find(id);
+          if (it == ran.end()) not_run.push_back(id);
+          else if (it->second.study) studies.push_back(*it->second.study);
+        }
+        if (!not_run.empty()) {
+          e.verdict = kNotRun;
+          e.why = fmt::format("case{} {} did not run in this invocation",
+                              not_run.size() == 1 ? "" : "s", fmt::join(not_run, ", "));
+          break;
+        }
+      }
       for (const auto& mc : manifest.cases) {
+        if (!row.cases.empty()) break;
         if (mc.problem != row.problem) continue;
         if (!params_match(resolved_case_params(catalogue, mc.problem, mc.problem_params),
                           row.problem_params))

@@ -31,6 +31,8 @@
 //   # (3) a finding (Problem::findings()), checked on the run's studies of that problem:
 //   finding = "cantilever:kbm-si-rate"   # "<problem>:<Finding::id>"
 //   problem_params = { a = 0 }           # optional: only studies with these problem parameters
+//   cases = ["rubber-ring/kbm-si-lagrangian", ...]  # optional: only these suite cases' studies
+//                                        # (the paper's own method or counts), each must run
 //   # (4) an open row: a problem that is not built yet ("not yet built" while the catalogue
 //   #     has no such problem; an error once it has one, so the row must then name a case)
 //   problem = "rubber-ring"
@@ -56,7 +58,8 @@
 //   case = "..." / cases = [...]         # any of: case, cases, nodes (published rows: where
 //   nodes = [349]                        # ours is read; the paper values stay the row's),
 //   statistic = "best_pair"              # measure, statistic, quantity (another headline of
-//                                        # the case), finding, problem_params
+//                                        # the case), finding, problem_params (and, for
+//                                        # finding rows, cases)
 // The verdict is that of the closest reading that is not fitted: the best verdict (reproduced,
 // partly, not reproduced, not reached), then the smallest largest |ln(ours/paper)| (ratio
 // rows) or |ours − paper|/tolerance (difference rows); the row's own reading wins a tie. A
