@@ -96,6 +96,42 @@ TEST_F(Commands, VerifyFailsWhenANumberIsWorseThanTheBaseline) {
   EXPECT_NE(out.find("worse than the baseline"), std::string::npos) << out;
 }
 
+/// A full_only case (a paper-size run, a check too costly for the nightly) runs only with
+/// --full, keeps out of the baseline and the CTest list, and --case names it only with --full.
+TEST_F(Commands, AFullOnlyCaseRunsOnlyWithFull) {
+  const fs::path m = write("suite.toml",
+                           "[suite]\nname = \"t\"\nbaseline = \"baseline.toml\"\n"
+                           "[[case]]\nid = \"lt/fem\"\nproblem = \"laplace-tanh\"\n"
+                           "method = \"fem\"\nnodes = [21, 41]\n"
+                           "[[case]]\nid = \"lt/fem-big\"\nproblem = \"laplace-tanh\"\n"
+                           "method = \"fem\"\nnodes = [81, 161]\nfull_only = true\n");
+  std::string out;
+  ASSERT_EQ(verify(m, out, true), 0) << out;
+  EXPECT_EQ(out.find("lt/fem-big"), std::string::npos) << "ran without --full:\n" << out;
+  EXPECT_EQ(load_baseline(dir_ / "baseline.toml").cases.count("lt/fem-big"), 0u);
+  VerifyOptions o;
+  o.manifest = m.string();
+  o.no_report = true;
+  o.cases = {"lt/fem-big"};
+  std::ostringstream s, progress;
+  try {
+    command_verify(catalogue_, o, s, progress);
+    FAIL() << "a full-only case ran without --full";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("add --full"), std::string::npos) << e.what();
+  }
+  o.full = true;
+  std::ostringstream s2;
+  EXPECT_EQ(command_verify(catalogue_, o, s2, progress), 0) << s2.str();
+  EXPECT_NE(s2.str().find("none (--full only)"), std::string::npos) << s2.str();
+  const fs::path script = dir_ / "tests.cmake";
+  command_manifest_ctest(m.string(), "/bin/mfv", script.string());
+  std::stringstream text;
+  text << std::ifstream(script).rdbuf();
+  EXPECT_NE(text.str().find("[==[lt/fem]==]"), std::string::npos);
+  EXPECT_EQ(text.str().find("lt/fem-big"), std::string::npos) << text.str();
+}
+
 TEST_F(Commands, VerifyRejectsAnUnknownMethodBeforeRunning) {
   const fs::path m = write("bad.toml",
                            "[[case]]\nid = \"x\"\nproblem = \"laplace-tanh\"\nmethod = \"efgg\"\n"

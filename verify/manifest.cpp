@@ -222,7 +222,8 @@ bool has_whitespace(const std::string& s) {
 ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   static const std::vector<std::string> kKeys = {
       "id",    "problem",    "problem_params", "method", "method_params", "nodes",
-      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance", "expect", "analysis"};
+      "full_nodes", "perturbation", "labels", "bands", "drift_tolerance", "expect", "analysis",
+      "full_only"};
   ManifestCase c;
   c.line = line_of(t);
   c.id = get_string(r, require(r, t, "id", "[[case]]", "id = \"laplace-tanh/fem\""), "id");
@@ -257,6 +258,13 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
       r.fail(line_of(*n), fmt::format("expect = \"{}\" is neither \"stable\" nor \"unstable\"", e),
              "write expect = \"unstable\" for a transient case meant to blow up, or leave it out");
     c.expect_unstable = e == "unstable";
+  }
+  if (auto n = t.get("full_only")) {
+    const auto* b = n->as_boolean();
+    if (!b)
+      r.fail(line_of(*n), fmt::format("'full_only' must be true or false, got {}", type_name(*n)),
+             "write full_only = true for a case that runs only with --full");
+    c.full_only = b->get();
   }
   if (auto n = t.get("labels")) {
     const auto* a = n->as_array();

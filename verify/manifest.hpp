@@ -23,6 +23,9 @@
 //   nodes = [21, 41, 81, 161]                 # required: increasing integers >= 2
 //   full_nodes = [21, 41, 81, 161, 241]       # optional, used with --full (default: nodes)
 //   perturbation = 0.0                        # optional, >= 0
+//   full_only = true                          # optional: runs only with --full (a paper-size
+//                                             # run, or a check too costly for the nightly):
+//                                             # no CTest test, no baseline, bands apply
 //   labels = ["fast"]                         # optional extra CTest labels
 //   drift_tolerance = 0.5                     # optional, > 0: overrides the suite's for this
 //                                             # case (ill-conditioned systems whose errors
@@ -78,6 +81,7 @@ struct ManifestCase {
   std::vector<std::string> labels;
   std::optional<double> drift_tolerance;       ///< overrides Manifest::drift_tolerance
   bool expect_unstable = false;                ///< `expect = "unstable"`
+  bool full_only = false;                      ///< runs only with --full, never in the baseline
   std::map<std::string, Band> bands;           ///< keyed by a name from band_metrics()
   std::map<std::string, Band> headline_bands;  ///< keyed by the problem's headline name
   int line = 0;                                ///< line of the case's [[case]] header
