@@ -16,6 +16,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <fstream>
 
 #include "methods/core/errors.hpp"
 #include "tests/temp_files.hpp"
@@ -514,6 +516,26 @@ TEST_F(ManifestTest, ReadTextFileReadsWholeFileAndNamesMissingPath) {
   fs::remove(p);
   ExpectMessage(error_of([&] { detail::read_text_file(p, "thing", "do this"); }),
                 {"cannot read thing " + p.string(), "; do this"});
+}
+
+/// Issue 26: manifests, baselines and ledgers must be regular files of bounded size; a FIFO
+/// is refused at once (never waited on), a device or directory is named, and /dev/zero as a
+/// baseline does not grow memory without bound.
+TEST_F(ManifestTest, ReadTextFileRefusesSpecialAndHugeFiles) {
+  const fs::path fifo = dir_.path() / "fifo.toml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  ExpectMessage(manifest_error(fifo), {fifo.string(), "a pipe (FIFO), not a regular file"});
+  ExpectMessage(error_of([] { load_baseline("/dev/zero"); }),
+                {"/dev/zero", "a character device, not a regular file"});
+  ExpectMessage(error_of([&] { detail::read_text_file(dir_.path(), "ledger", "h"); }),
+                {"a directory, not a regular file"});
+  const fs::path huge = dir_.path() / "huge.toml";
+  {
+    std::ofstream out(huge, std::ios::binary);
+    out.seekp(static_cast<std::streamoff>(detail::kMaxTextFileBytes));
+    out.put('x');
+  }
+  ExpectMessage(manifest_error(huge), {"more than the 16 MiB a text input may have"});
 }
 
 // ---------------------------------------------------------------------------------------------

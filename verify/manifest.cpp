@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,19 +26,44 @@ namespace detail {
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& what,
                            const std::string& hint) {
-  // stdio rather than iostreams: we want errno for the message ("No such file or directory").
-  auto fail = [&](int err) {
-    return InputError(
-        fmt::format("cannot read {} {}: {}; {}", what, path.string(), std::strerror(err), hint));
+  auto fail = [&](const std::string& why) {
+    return InputError(fmt::format("cannot read {} {}: {}; {}", what, path.string(), why, hint));
   };
-  errno = 0;
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw fail(errno ? errno : ENOENT);
+  // O_NONBLOCK: a FIFO named here must be refused, not waited on for ever.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw fail(std::strerror(errno));
+  std::unique_ptr<int, void (*)(int*)> close_fd(new int(fd), [](int* p) {
+    ::close(*p);
+    delete p;
+  });
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw fail(std::strerror(errno));
+  if (!S_ISREG(st.st_mode))
+    throw fail(fmt::format("it is {}, not a regular file",
+                           S_ISDIR(st.st_mode)    ? "a directory"
+                           : S_ISFIFO(st.st_mode) ? "a pipe (FIFO)"
+                           : S_ISCHR(st.st_mode)  ? "a character device"
+                           : S_ISBLK(st.st_mode)  ? "a block device"
+                           : S_ISSOCK(st.st_mode) ? "a socket"
+                                                  : "a special file"));
+  if (st.st_size > static_cast<off_t>(kMaxTextFileBytes))
+    throw fail(fmt::format("it holds {} bytes, more than the {} MiB a text input may have",
+                           static_cast<long long>(st.st_size), kMaxTextFileBytes >> 20));
   std::string text;
   char buffer[8192];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, f.get())) > 0) text.append(buffer, n);
-  if (std::ferror(f.get())) throw fail(errno ? errno : EIO);
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw fail(std::strerror(errno));
+    }
+    if (n == 0) break;
+    text.append(buffer, static_cast<std::size_t>(n));
+    // A file that grows while we read it is bounded too.
+    if (text.size() > kMaxTextFileBytes)
+      throw fail(fmt::format("it holds more than the {} MiB a text input may have",
+                             kMaxTextFileBytes >> 20));
+  }
   return text;
 }
 

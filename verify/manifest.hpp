@@ -131,8 +131,12 @@ std::vector<BandViolation> check_bands(const ManifestCase& c, const StudyResult&
 std::vector<std::string> check_stability(const ManifestCase& c, const StudyResult& s);
 
 namespace detail {
-/// The whole content of a text file; throws InputError "cannot read <what> <path>: <errno
-/// text>; <hint>". Shared by the manifest and baseline readers.
+/// The largest manifest, baseline or ledger read (16 MiB: the checked-in ones are < 200 kB).
+inline constexpr std::size_t kMaxTextFileBytes = std::size_t{16} << 20;
+/// The whole content of a regular text file of at most kMaxTextFileBytes; throws InputError
+/// "cannot read <what> <path>: <why>; <hint>" for a missing or unreadable file, a directory,
+/// a FIFO (never waited on), a device or socket, and a file larger than the bound. Shared by
+/// the manifest, baseline and ledger readers.
 std::string read_text_file(const std::filesystem::path& path, const std::string& what,
                            const std::string& hint);
 }  // namespace detail
