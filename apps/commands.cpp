@@ -689,7 +689,9 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     if (o.full) {
       out << "baseline not updated: it records the default resolutions; run without --full\n";
     } else {
-      std::filesystem::create_directories(manifest.baseline.parent_path());
+      // A baseline beside a manifest in the working directory has no parent to create.
+      if (const auto parent = manifest.baseline.parent_path(); !parent.empty())
+        std::filesystem::create_directories(parent);
       write_file_atomic(manifest.baseline, baseline_to_toml(updated));
       out << fmt::format("baseline written: {}\n", manifest.baseline.string());
     }
@@ -794,8 +796,13 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
 }
 
 namespace {
-/// A CMake bracket argument that survives any case id.
-std::string bracket(const std::string& s) { return "[==[" + s + "]==]"; }
+/// A CMake bracket argument that survives any text: as many '=' as it takes for the closing
+/// bracket not to occur in it (a case id holding "]==]" would otherwise end the argument).
+std::string bracket(const std::string& s) {
+  std::string eq = "==";
+  while (s.find("]" + eq + "]") != std::string::npos) eq += '=';
+  return "[" + eq + "[" + s + "]" + eq + "]";
+}
 }  // namespace
 
 void command_manifest_ctest(const std::string& manifest_path, const std::string& mfv_executable,

@@ -255,7 +255,20 @@ void check_output_file(const fs::path& path, const std::string& what,
                        bool (*ours)(const std::string& head)) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(path, ec);
-  if (st.type() == fs::file_type::not_found) return;
+  if (st.type() == fs::file_type::not_found) {
+    // Checked before any computation: the file is written next to itself (a temporary and a
+    // rename), so its directory must exist and be writable now, not after an hour's run.
+    const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    if (!fs::is_directory(dir, ec))
+      throw InputError(fmt::format("{} '{}': the directory '{}' does not exist; create it or give "
+                                   "another path",
+                                   what, path.string(), dir.string()));
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw InputError(fmt::format("{} '{}': the directory '{}' is not writable ({}); give "
+                                   "another path",
+                                   what, path.string(), dir.string(), errno_text(errno)));
+    return;
+  }
   if (st.type() != fs::file_type::regular)
     throw InputError(fmt::format("{} '{}' exists and is {}; mfv never replaces it: give another "
                                  "file name",

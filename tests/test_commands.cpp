@@ -132,6 +132,29 @@ TEST_F(Commands, AFullOnlyCaseRunsOnlyWithFull) {
   EXPECT_EQ(text.str().find("lt/fem-big"), std::string::npos) << text.str();
 }
 
+/// Issue 26: a case id holding the default bracket's "]==]" still makes a script CMake can
+/// read; a manifest and baseline in the working directory can record the baseline.
+TEST_F(Commands, ManifestCtestBracketsSurviveAnyIdAndARelativeBaselineIsWritten) {
+  const fs::path m = write("odd.toml",
+                           "[[case]]\nid = \"a]==]b\"\nproblem = \"laplace-tanh\"\n"
+                           "method = \"fem\"\nnodes = [21, 41]\n");
+  const fs::path script = dir_ / "tests.cmake";
+  command_manifest_ctest(m.string(), "/bin/mfv", script.string());
+  std::stringstream text;
+  text << std::ifstream(script).rdbuf();
+  EXPECT_NE(text.str().find("[===[a]==]b]===]"), std::string::npos) << text.str();
+
+  write("lt.toml", "[suite]\nname = \"lt\"\nbaseline = \"lt-base.toml\"\n[[case]]\nid = \"a\"\n"
+                   "problem = \"laplace-tanh\"\nmethod = \"fem\"\nnodes = [21, 41]\n");
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_);
+  std::string out;
+  const int rc = verify("lt.toml", out, true);
+  fs::current_path(cwd);
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_TRUE(fs::exists(dir_ / "lt-base.toml")) << out;
+}
+
 TEST_F(Commands, VerifyRejectsAnUnknownMethodBeforeRunning) {
   const fs::path m = write("bad.toml",
                            "[[case]]\nid = \"x\"\nproblem = \"laplace-tanh\"\nmethod = \"efgg\"\n"
