@@ -501,6 +501,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   }
   const Baseline baseline =
       manifest.baseline.empty() ? Baseline{} : load_baseline(manifest.baseline);
+  if (!baseline.suite.empty() && baseline.suite != manifest.name)
+    throw InputError(fmt::format("baseline {} records suite '{}', not this manifest's '{}'; point "
+                                 "[suite] baseline at '{}''s own baseline, or record one with "
+                                 "--update-baseline into a new file",
+                                 manifest.baseline.string(), baseline.suite, manifest.name,
+                                 manifest.name));
   if (o.update_baseline && !manifest.baseline.empty())
     check_output_file(manifest.baseline, "baseline", written_by_mfv_verify);
   const std::filesystem::path report_dir =
@@ -549,7 +555,23 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       if (mc.full_only) {
         // Runs only with --full: the baseline records the nightly, its bands guard it.
       } else if (o.update_baseline) {
-        if (!o.full) updated.cases[mc.id] = current;
+        // A number the baseline held that this run did not measure (NaN) is a lost
+        // measurement, never a new record: the case fails and keeps its old entry.
+        std::vector<Drift> lost;
+        if (const auto it = baseline.cases.find(mc.id); it != baseline.cases.end())
+          for (const Drift& d : check_drift(mc.id, it->second, current, INFINITY, 0))
+            if (std::isfinite(d.baseline) && !std::isfinite(d.current)) lost.push_back(d);
+        for (Drift& d : lost)
+          d.message = fmt::format("{}: {}{}: the baseline holds {:.6g}, this run measured "
+                                  "nothing; its baseline entry is kept (fix the run, or remove "
+                                  "the entry from {} by hand if the measurement went on purpose)",
+                                  mc.id, d.metric, d.nodes > 0 ? fmt::format(" at {} nodes", d.nodes) : "",
+                                  d.baseline, manifest.baseline.string());
+        if (lost.empty()) {
+          if (!o.full) updated.cases[mc.id] = current;
+        } else {
+          oc.drifts = std::move(lost);
+        }
       } else if (!manifest.baseline.empty()) {
         const auto it = baseline.cases.find(mc.id);
         if (it == baseline.cases.end()) {
@@ -620,7 +642,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     for (int n : resolutions(*oc.mc, o.full)) nodes.push_back(std::to_string(n));
     std::string base_state = manifest.baseline.empty() ? "none"
                              : oc.mc->full_only       ? "none (--full only)"
-                             : o.update_baseline      ? "updated"
+                             : o.update_baseline      ? (worse > 0 ? "kept (a measurement was lost)" : "updated")
                              : oc.drifts.empty()      ? "unchanged"
                                                       : fmt::format("{} drift(s)", oc.drifts.size());
     const bool vector_field = oc.study && !oc.study->cases.empty() &&
