@@ -1,4 +1,5 @@
 #include "apps/commands.hpp"
+#include "methods/core/petsc_session.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -270,6 +271,7 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
                        : std::filesystem::path(o.report);
   std::unique_ptr<StagedDirectory> staged;
   if (!o.no_report) staged = stage_report(dir, o.force, spec.problem);
+  petsc::checks_done();  // under mpirun: every rank's checks passed before any collective work
   StudyResult study;
   study.label = study_label(spec);
   study.cases.push_back(run_case(c, spec));
@@ -323,6 +325,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   spec.nodes = o.nodes;
   spec.perturbation = o.perturbation;
   spec.analysis = o.analysis;
+  petsc::checks_done();
   CaseResult r;
   try {
     r = run_case(c, spec);
@@ -406,6 +409,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
 
   std::unique_ptr<StagedDirectory> staged;
   if (!o.report.empty()) staged = stage_report(o.report, o.force, base.problem);
+  petsc::checks_done();
 
   const double w0 = wall_seconds(), c0 = cpu_seconds();
   std::vector<ReportSection> sections;
@@ -517,6 +521,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // The ledger is checked before the first case runs too (its rows name cases and values).
   std::optional<Ledger> ledger;
   if (!manifest.ledger.empty()) ledger = load_ledger(manifest.ledger, manifest, c);
+  petsc::checks_done();
 
   const double w0 = wall_seconds(), c0 = cpu_seconds();
   struct Outcome {

@@ -231,6 +231,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (rank > 0) {
+    // Rank 0 alone writes; the other ranks learn of its refusals at checks_done().
     run.vtk.clear();
     ana.no_report = dis.no_report = ver.no_report = true;
     ana.report.clear();
@@ -243,23 +244,31 @@ int main(int argc, char** argv) {
   // stdout is a failure (exit 1), never a silent success.
   auto flushed = [&](int status) {
     out.flush();
-    if (!out) {
+    if (out.rdbuf() != nullptr && !out) {  // the other ranks' `out` is a null sink
       std::cerr << who << ": error: cannot write to standard output (disk full or the reader "
                           "is gone)\n";
       return status == 0 ? 1 : status;
     }
     return status;
   };
+  // Under mpirun every rank ends through the same agreement (methods/core/petsc_session.hpp):
+  // all exit with the largest code, and one message is printed — rank 0's, or a failing
+  // rank's when rank 0 did not fail.
+  int status = 0;
+  std::string message;
+  bool other_rank = false;
   try {
     const mfv::Catalogue catalogue;
     if (*list) {
       mfv::command_list(catalogue, out);
-      return flushed(0);
-    }
-    if (*cmd_ctest && rank > 0) return 0;
-    if (*cmd_run) return flushed(mfv::command_run(catalogue, run, out));
-    if (*cmd_analyse) return flushed(mfv::command_analyse(catalogue, ana, out));
-    if (*cmd_dispersion) {
+      status = flushed(0);
+    } else if (*cmd_ctest) {
+      if (rank == 0) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
+    } else if (*cmd_run) {
+      status = flushed(mfv::command_run(catalogue, run, out));
+    } else if (*cmd_analyse) {
+      status = flushed(mfv::command_analyse(catalogue, ana, out));
+    } else if (*cmd_dispersion) {
       dis.problem = "dispersion";
       std::string colon_angles = angles;
       std::replace(colon_angles.begin(), colon_angles.end(), ',', ':');
@@ -268,34 +277,46 @@ int main(int argc, char** argv) {
       if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
       if (!stress.empty()) dis.problem_params += ",stress=" + stress;
       if (map) dis.problem_params += ",map=sigma-kappa";
-      return flushed(mfv::command_analyse(catalogue, dis, out));
-    }
-    if (*cmd_study) {
+      status = flushed(mfv::command_analyse(catalogue, dis, out));
+    } else if (*cmd_study) {
       cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};
-      return flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+      status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+    } else if (*cmd_compare) {
+      status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+    } else if (*cmd_verify) {
+      status = flushed(mfv::command_verify(catalogue, ver, out, err_progress));
     }
-    if (*cmd_compare) return flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
-    if (*cmd_verify) return flushed(mfv::command_verify(catalogue, ver, out, err_progress));
-    if (*cmd_ctest) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
+  } catch (const mfv::petsc::OtherRankFailed& e) {
+    status = e.code;
+    other_rank = true;
   } catch (const mfv::InputError& e) {
-    std::cerr << who << ": input error: " << e.what() << "\n";
-    return 2;
+    status = 2;
+    message = fmt::format("{}: input error: {}", who, e.what());
+  } catch (const std::bad_alloc&) {
+    status = 1;
+    message = fmt::format("{}: error: out of memory; lower --nodes (or the problem parameter "
+                          "that sets the size) or free memory",
+                          who);
+  } catch (const mfv::SingularError& e) {
+    status = 3;
+    message = fmt::format("{}: singular: {}", who, e.what());
   } catch (const std::filesystem::filesystem_error& e) {
     // A path no file system can hold is the user's input; anything else is a failure.
     const auto c = e.code();
     const bool input = c == std::errc::filename_too_long || c == std::errc::invalid_argument;
-    std::cerr << who << (input ? ": input error: " : ": error: ") << e.what()
-              << (input ? "; give a shorter or valid path\n" : "\n");
-    return input ? 2 : 1;
-  } catch (const std::bad_alloc&) {
-    std::cerr << who << ": error: out of memory; lower --nodes or free memory\n";
-    return 1;
-  } catch (const mfv::SingularError& e) {
-    std::cerr << who << ": singular: " << e.what() << "\n";
-    return 3;
+    status = input ? 2 : 1;
+    message = fmt::format("{}{}{}{}", who, input ? ": input error: " : ": error: ", e.what(),
+                          input ? "; give a shorter or valid path" : "");
   } catch (const std::exception& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return 1;
+    status = 1;
+    message = fmt::format("{}: error: {}", who, e.what());
   }
-  return 0;
+  if (!mpi) {
+    if (!message.empty()) std::cerr << message << "\n";
+    return status;
+  }
+  const mfv::petsc::Agreement agreed = mfv::petsc::finish(status);
+  if (!message.empty() && !other_rank && (rank == 0 || agreed.rank0_code == 0))
+    std::cerr << message << "\n";
+  return agreed.code;
 }
