@@ -83,49 +83,11 @@ class ClosedFormModel {
 
   /// The verdict of stability/dispersion.hpp's stability_verdict, sampled the same way.
   StabilityVerdict verdict(const std::vector<double>& thetas, int points, bool tension) const {
-    constexpr double zero = 1e-7;  // stability_verdict's tolerance on ω² in (c π/Δx)²
     const double pi = std::numbers::pi;
-    StabilityVerdict v;
-    double min_ratio = 1e300;
-    for (std::size_t t = 0; t < thetas.size(); ++t) {
-      const double th = thetas[t];
-      const double kmax = brillouin_boundary(p_.lattice, 1.0, th) / pi;
-      auto lowest = [&](double kn) { return omega2(kn, th)[0]; };
-      double prev = 0;
-      bool found = false;
-      for (int i = 1; i < points; ++i) {
-        const double kn = kmax * i / (points - 1);
-        const double w = lowest(kn);
-        if (kn > 0.02) min_ratio = std::min(min_ratio, w / (kn * kn));
-        if (w < -zero && !found) {
-          found = true;
-          double lo = prev, hi = kn;
-          for (int it = 0; it < 50; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            (lowest(mid) < -zero ? hi : lo) = mid;
-          }
-          if (!v.unstable || hi < v.onset) {
-            v.onset = hi;
-            v.onset_theta = th * 180 / pi;
-          }
-          v.unstable = true;
-        } else if (std::abs(w) <= zero && kn > 0.05 && !v.spurious) {
-          v.spurious = true;
-          v.spurious_kappa = kn;
-          v.spurious_theta = th * 180 / pi;
-        }
-        if (w >= -zero) prev = kn;
-        if (t == 0 && i == points - 1) v.cutoff_omega = std::sqrt(std::max(w, 0.0));
-      }
-    }
-    v.min_ratio = min_ratio;
-    if (v.unstable)
-      v.text = fmt::format("{}unstable above κ = {:.3f} π/Δx (θ = {:g}°)", tension ? "tensile-" : "",
-                           v.onset, v.onset_theta);
-    if (v.spurious)
-      v.text += fmt::format("{}spurious mode at κ = {:.3f} π/Δx (θ = {:g}°)",
-                            v.text.empty() ? "" : "; ", v.spurious_kappa, v.spurious_theta);
-    if (v.text.empty()) v.text = "stable";
+    StabilityVerdict v = scan_stability(
+        thetas, points, tension,
+        [&](double theta) { return brillouin_boundary(p_.lattice, 1.0, theta) / pi; },
+        [&](double kn, double theta) { return omega2(kn, theta)[0]; });
     v.text = "000's closed forms: " + v.text;
     return v;
   }
