@@ -128,14 +128,14 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
   td.dt_critical = dt_critical;
   // Central differences are stable only for dt ≤ 2/ω_max. The critical step is the run's own
   // (a Rayleigh quotient of the power iteration, so it lies at or above the true one): a step
-  // above it is unstable whatever the run shows before its end time, and is flagged at step 0
-  // (the run goes on, so that the report shows what it did).
-  if (std::isfinite(dt_critical) && dt_critical > 0 && dt > dt_critical * (1 + 1e-9))
-    td.instability = TransientData::Instability{
-        0, 0.0,
-        fmt::format("the time step dt = {:.6g} is {:.4g} × the critical step 2/ω_max = {:.6g} "
-                    "the run computed: central differences are unstable above it",
-                    dt, dt / dt_critical, dt_critical)};
+  // above it is unstable whatever the run shows before its end time. A blow-up names it in
+  // its reason; a run that ends without one is flagged at step 0 (after the loop).
+  const std::string above_critical =
+      std::isfinite(dt_critical) && dt_critical > 0 && dt > dt_critical * (1 + 1e-9)
+          ? fmt::format("the time step dt = {:.6g} is {:.4g} × the critical step 2/ω_max = "
+                        "{:.6g} the run computed: central differences are unstable above it",
+                        dt, dt / dt_critical, dt_critical)
+          : std::string();
   td.end_time = steps * dt;
   td.dynamics = sim.description();
   td.history_columns = {"time", "kinetic", "internal work", "external work", "energy balance"};
@@ -185,6 +185,7 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
   const double t0 = cpu_seconds();
   long done = 0;
   auto mark_unstable = [&](long s, std::string why) {
+    if (!above_critical.empty()) why += " (" + above_critical + ")";
     if (!td.instability) td.instability = TransientData::Instability{s, sim.time(), std::move(why)};
   };
   // The loop's CPU time is recorded however the loop ends (a collapsed particle arrangement
@@ -231,6 +232,8 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
     if (plan.stop && plan.stop(sim.state())) break;
   }
   bar.finish();
+  if (!td.instability && !above_critical.empty())
+    td.instability = TransientData::Instability{0, 0.0, above_critical};
   td.steps = done;
   td.stopped_early = done < steps;
   td.retabulations = sim.counters().retabulations;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "methods/approximations/approximation.hpp"
+#include "methods/core/resources.hpp"
 #include "methods/core/errors.hpp"
 #include "methods/core/parallel.hpp"
 #include "methods/neighbours.hpp"
@@ -64,6 +65,39 @@ int CorrectedKernelApproximation::minimum_support_count(int dim) const {
 
 double CorrectedKernelApproximation::search_radius(const ParticleSet& particles) const {
   return kernel_->support() * particles.dilation.maxCoeff();
+}
+
+void CorrectedKernelApproximation::check_table_size(std::int64_t entries, int points,
+                                                    const ParticleSet& particles,
+                                                    int order) const {
+  const int dim = particles.dim;
+  const std::int64_t n = particles.size();
+  const double per_entry =
+      4.0 + 8.0 * (1 + (order >= 1 ? dim : 0) + (order >= 2 ? dim * dim : 0));
+  const double bytes = static_cast<double>(entries) * per_entry;
+  const double mean = points > 0 ? static_cast<double>(entries) / points : 0.0;
+  const double radius = search_radius(particles);
+  const std::string support =
+      fmt::format("search radius {:.4g} = {:.3g} particle spacings", radius,
+                  particles.spacing > 0 ? radius / particles.spacing : NAN);
+  if (n >= kDenseFromParticles && mean > kDenseFraction * static_cast<double>(n))
+    throw InputError(fmt::format(
+        "{}: each point's support holds {:.0f} of the {} particles on average ({:.0f} %; {}): "
+        "the system would be dense, which a support of a few spacings never is; give a "
+        "smaller support (dmax 2-4, radius or h of a few spacings, j for RKPM windows)",
+        name_, mean, n, 100 * mean / static_cast<double>(n), support));
+  if (entries > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("{}: the shape-function table would hold {} entries ({}), more "
+                                 "than its int offsets can index; give a smaller support or fewer "
+                                 "nodes",
+                                 name_, entries, support));
+  const std::uint64_t have = available_memory_bytes();
+  if (have > 0 && bytes > static_cast<double>(have))
+    throw InputError(fmt::format(
+        "{}: the shape-function table needs {:.3g} GB ({} entries: {:.0f} particles per point at "
+        "{} points; {}), more than the {:.3g} GB of memory available (the smaller of free memory "
+        "and the address-space limit); give a smaller support or fewer nodes",
+        name_, bytes / 1e9, entries, mean, points, support, static_cast<double>(have) / 1e9));
 }
 
 namespace {
@@ -423,6 +457,11 @@ void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
       t.offsets[q + 1] = static_cast<int>(eval.support_of(x, lists.candidates(q), sc));
     }
   }
+  // The table's size is known now, before its values are allocated: a support that makes it
+  // dense, or larger than the memory there is, is refused with the estimate (issue 26).
+  std::int64_t total = 0;
+  for (int q = 0; q < nq; ++q) total += t.offsets[q + 1];
+  check_table_size(total, nq, particles, order);
   for (int q = 0; q < nq; ++q) t.offsets[q + 1] += t.offsets[q];
   const std::size_t entries = t.offsets[nq];
   t.index.resize(entries);

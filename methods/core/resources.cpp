@@ -1,10 +1,12 @@
 #include "methods/core/resources.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -13,18 +15,38 @@
 
 namespace mfv {
 
-std::uint64_t available_memory_bytes() {
-  std::ifstream in("/proc/meminfo");
+namespace {
+
+/// A "<key>: <n> kB" line of a /proc file, in bytes; 0 when absent.
+std::uint64_t proc_kb(const char* file, const std::string& key) {
+  std::ifstream in(file);
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind("MemAvailable:", 0) != 0) continue;
-    std::istringstream s(line.substr(13));
+    if (line.rfind(key, 0) != 0) continue;
+    std::istringstream s(line.substr(key.size()));
     std::uint64_t kb = 0;
     if (s >> kb) return kb * 1024;
   }
-  const long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-  if (pages > 0 && page > 0) return static_cast<std::uint64_t>(pages) * page;
   return 0;
+}
+
+}  // namespace
+
+std::uint64_t available_memory_bytes() {
+  std::uint64_t have = proc_kb("/proc/meminfo", "MemAvailable:");
+  if (have == 0) {
+    const long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) have = static_cast<std::uint64_t>(pages) * page;
+  }
+  // Under `ulimit -v` (RLIMIT_AS) the process can map only what its limit leaves over its
+  // present address space, whatever the machine has free.
+  rlimit lim{};
+  if (::getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY) {
+    const std::uint64_t used = proc_kb("/proc/self/status", "VmSize:");
+    const std::uint64_t left = lim.rlim_cur > used ? lim.rlim_cur - used : 1;
+    have = have == 0 ? left : std::min(have, left);
+  }
+  return have;
 }
 
 std::int64_t checked_particle_count(std::int64_t nx, std::int64_t ny, std::string_view what) {

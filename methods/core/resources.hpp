@@ -13,8 +13,9 @@ namespace mfv {
 inline constexpr double kBytesPerParticle1D = 3.0e3;
 inline constexpr double kBytesPerParticle2D = 12.0e3;
 
-/// Memory the system can still give, from /proc/meminfo MemAvailable (or sysconf when that
-/// is unreadable); 0 when neither tells.
+/// Memory the process can still get: /proc/meminfo MemAvailable (or sysconf when that is
+/// unreadable), and under an address-space limit (ulimit -v, RLIMIT_AS) at most what the limit
+/// leaves over the present VmSize; 0 when nothing tells.
 std::uint64_t available_memory_bytes();
 
 /// nx · ny in 64-bit; throws InputError naming `what` when the product exceeds the int
