@@ -8,11 +8,15 @@
 ///    tip at relative y = 0.9 inside the middle row of cells, 003 §4.3.1); for each DMAX and
 ///    mass scheme (consistent eq 13, MLS1 eqs 14-16, MLS2 eqs 19-22) the ratio
 ///    Δt_crack / Δt_no-crack, Δt = 2/√λ_max (eq 12).
-/// 2. Fit (003 §4.3.3, eqs 23-30): λ_max of the integration cell's K_cell φ = λ M_cell φ
+/// 2. α of eq 30 (003 §4.3.3, eqs 23-30): λ_max of the integration cell's K_cell φ = λ M_cell φ
 ///    (eq 29: λ = E/(ρΔx²) λ(M_dmax, K_dmax)) for an interior cell of a long uniform bar,
-///    row-sum and MLS1 lumping, fitted to λ = α E/(ρ Δx² DMAX²) (eq 30) by least squares in
-///    1/DMAX²; with the trimming heuristic only the shape functions whose middle half of the
-///    support [0.25 s, 0.75 s] covers the cell count (even DMAX).
+///    row-sum and MLS1 lumping; with the trimming heuristic only the shape functions whose
+///    middle half of the support [0.25 s, 0.75 s] covers the cell count (even DMAX).
+///    λ_max DMAX² rises with DMAX toward a limit; α (the headline) is that limit, computed on
+///    DMAX = 8, 16, 32, ... until two successive values agree to kAlphaConverged, and the
+///    closed form of the limit (stability/closed_forms.hpp, cell_alpha_limit) is printed beside
+///    it. The least-squares fit of λ = α/DMAX² over support radii 2-8 is kept for scale
+///    ("fit 2-8"): it depends on the range fitted, which 003 does not give.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,6 +29,7 @@
 #include "methods/core/clock.hpp"
 #include "methods/core/errors.hpp"
 #include "problems/enriched_bar.hpp"
+#include "stability/closed_forms.hpp"
 #include "stability/enriched_mass.hpp"
 
 namespace mfv {
@@ -39,6 +44,13 @@ const char* scheme_name(MassScheme s) { return kSchemeNames[static_cast<int>(s)]
 double support_factor(const std::string& convention) {
   return convention == "diameter" ? 0.5 : convention == "2h" ? 2.0 : 1.0;
 }
+
+/// Two successive DMAX of the doubling sequence whose λ_max DMAX² differ by less than this
+/// (relative) end it: the value is then within about that of the limit (the difference
+/// falls at least as fast as 1/DMAX, so the remaining gap is at most about one more step).
+constexpr double kAlphaConverged = 2e-3;
+/// The doubling sequence starts here and stops here at the latest (support radii in Δx).
+constexpr double kAlphaFirstRadius = 8, kAlphaLastRadius = 512;
 
 /// One α fit: per-DMAX λ (in E/(ρΔx²)) of the row-sum and MLS1 cell problems.
 struct AlphaFit {
@@ -88,6 +100,7 @@ class CrackSweep final : public FigureAnalysis {
                                        : rectangle_lattice(dom, p.n, p.n, Placement::boundary);
     double t_assembly = 0, t_solve = 0;
     const bool mls1_point = p.sweep.text("mls1") == "point";
+    const bool mls2_region = p.sweep.text("mls2") == "region";
     std::vector<int> active;
     for (int i = 0; i < 3; ++i)
       if (p.sweep.text("mass") == "all" || p.sweep.text("mass") == scheme_name(kSweepSchemes[i]))
@@ -102,7 +115,10 @@ class CrackSweep final : public FigureAnalysis {
       if (r.method_description.empty()) r.method_description = d.description;
       const Eigen::MatrixXd K = enriched_stiffness(d, p.material);
       std::vector<Eigen::MatrixXd> M(3);
-      for (int i : active) M[i] = enriched_mass(d, p.material, kSweepSchemes[i], mls1_point);
+      for (int i : active)
+        M[i] = kSweepSchemes[i] == MassScheme::mls2 && mls2_region
+                   ? enriched_mass_mls2_region(d, p.material)
+                   : enriched_mass(d, p.material, kSweepSchemes[i], mls1_point);
       const double b = cpu_seconds();
       std::vector<double> dt(3, NAN);
       for (int i : active)
@@ -118,7 +134,7 @@ class CrackSweep final : public FigureAnalysis {
     r.particles = base.size();
     FigureData& an = r.emplace<FigureData>();
     const double x0 = p.interval;
-    const double y_tip = (p.n / 2 - 1) + p.tip;
+    const double y_tip = p.tip_y();
     an.setup = fmt::format(
         "{}: {} particles 1 m apart, E = {:g} Pa, rho = {:g} kg/m3{}; crack swept from x = {} "
         "to x = {} in {} steps; DMAX = {}; xefg: {}. Ratios are dt(crack)/dt(no crack) with the "
@@ -236,8 +252,8 @@ class CrackSweep final : public FigureAnalysis {
         fit.alpha_mls1 = fit_alpha(fit.dmax, fit.mls1);
         const std::string t = trimmed ? " trimmed" : "";
         if (cv == conv) {
-          r.headline["alpha row-sum" + t] = fit.alpha_row_sum;
-          r.headline["alpha MLS1" + t] = fit.alpha_mls1;
+          r.headline["alpha row-sum" + t + " fit 2-8"] = fit.alpha_row_sum;
+          r.headline["alpha MLS1" + t + " fit 2-8"] = fit.alpha_mls1;
           for (int s = 0; s < 2; ++s) {
             FigureData::Curve cu{"alpha", fmt::format("{}{}", s ? "MLS1" : "row-sum", t), {}, {}};
             for (std::size_t i = 0; i < fit.dmax.size(); ++i) {
@@ -248,13 +264,73 @@ class CrackSweep final : public FigureAnalysis {
           }
         }
         an.verdicts.push_back(fmt::format(
-            "alpha ({} convention, support radius {} DMAX dx{}): row-sum {:.3f}, MLS1 {:.3f} "
-            "(003: row-sum {}; Belytschko et al. 2000: 13.30)",
+            "alpha fitted over support radii 2-8 ({} convention, support radius {} DMAX dx{}): "
+            "row-sum {:.3f}, MLS1 {:.3f} (003: row-sum {}; Belytschko et al. 2000: 13.30)",
             cv, f, trimmed ? ", trimmed to the middle half of each support, even DMAX" : "",
             fit.alpha_row_sum, fit.alpha_mls1, trimmed ? "7.1, MLS1 10" : "12.46"));
       }
     }
     an.tables.push_back(std::move(alpha));
+
+    // 3. The large-DMAX limit of λ_max DMAX² in the method's convention: 003 "solving the
+    //    eigenvalue problem for different even values of D_max" obtains one α, which its fit
+    //    can only give if λ DMAX² has settled; our per-DMAX values rise toward a limit.
+    FigureData::Table limit{"alpha-limit",
+                            {"trimmed", "dmax", "support radius", "alpha row-sum", "alpha MLS1"},
+                            {}};
+    const double f = support_factor(conv);
+    const auto W = c.plugins.kernels.create(mp.text("kernel"));
+    for (bool trimmed : {false, true}) {
+      const std::string t = trimmed ? " trimmed" : "";
+      // The row sum converges with and without trimming; MLS1 only trimmed (its untrimmed
+      // λ DMAX² grows without bound: the closed form's integrand is not integrable).
+      struct Scheme {
+        std::string name;
+        bool converges;
+        double last = NAN, value = NAN;
+        bool done = false;
+      };
+      std::vector<Scheme> schemes{{"row-sum", true}, {"MLS1", trimmed}};
+      for (double R = kAlphaFirstRadius; R <= kAlphaLastRadius; R *= 2) {
+        const double dm = R / f;
+        double lr, l1, lbar;
+        cell_eigenvalues(c, mp, conv, dm, trimmed, lr, l1, lbar, t_assembly, t_solve,
+                         /*whole_bar=*/false);
+        const double a[2] = {lr * dm * dm, l1 * dm * dm};
+        limit.rows.push_back({trimmed ? 1.0 : 0.0, dm, R, a[0], a[1]});
+        bool all = true;
+        for (int k = 0; k < 2; ++k) {
+          Scheme& sc = schemes[k];
+          if (sc.converges && !sc.done) {
+            if (std::abs(a[k] - sc.last) <= kAlphaConverged * std::abs(a[k])) {
+              sc.value = a[k];
+              sc.done = true;
+            }
+            sc.last = a[k];
+          }
+          all = all && (!sc.converges || sc.done);
+        }
+        if (all) break;
+      }
+      const double fr = 1 / (f * f);  // α in the convention: λ DMAX² with DMAX = R/f
+      const double closed[2] = {
+          fr * closed_form::cell_alpha_limit(*W, closed_form::CellLumping::row_sum, trimmed),
+          fr * closed_form::cell_alpha_limit(*W, closed_form::CellLumping::mls1, trimmed)};
+      for (int k = 0; k < 2; ++k) {
+        const Scheme& sc = schemes[k];
+        if (!sc.converges) continue;
+        // NaN when the sequence did not settle by kAlphaLastRadius: no limit is claimed.
+        r.headline["alpha " + sc.name + t] = sc.value;
+        r.headline["alpha " + sc.name + t + " closed form"] = closed[k];
+        an.verdicts.push_back(fmt::format(
+            "alpha {}{} as DMAX grows ({} convention): {} (successive DMAX within {:g} %); "
+            "closed form of the limit {:.4f}",
+            sc.name, t, conv,
+            sc.done ? fmt::format("{:.4f}", sc.value) : std::string("not settled"),
+            100 * kAlphaConverged, closed[k]));
+      }
+    }
+    an.tables.push_back(std::move(limit));
     r.cpu.assembly = t_assembly;
     r.cpu.solve = t_solve;
   }
@@ -265,7 +341,7 @@ class CrackSweep final : public FigureAnalysis {
   /// long uniform bar, and of the whole bar with row-sum lumping.
   void cell_eigenvalues(const AnalysisContext& c, const Params& mp, const std::string& conv,
                         double dmax, bool trimmed, double& row_sum, double& mls1, double& bar,
-                        double& t_assembly, double& t_solve) const {
+                        double& t_assembly, double& t_solve, bool whole_bar = true) const {
     const double a = cpu_seconds();
     row_sum = mls1 = bar = NAN;
     const double R = support_factor(conv) * dmax;  // support radius in Δx
@@ -314,8 +390,11 @@ class CrackSweep final : public FigureAnalysis {
           Kc(li, lj) += w * d.trial_q.grad[i] * d.trial_q.grad[j];
         }
     }
-    const Eigen::MatrixXd Kbar = enriched_stiffness(d, unit);
-    const Eigen::MatrixXd Mbar = enriched_mass(d, unit, MassScheme::row_sum);
+    Eigen::MatrixXd Kbar, Mbar;
+    if (whole_bar) {
+      Kbar = enriched_stiffness(d, unit);
+      Mbar = enriched_mass(d, unit, MassScheme::row_sum);
+    }
     const double b = cpu_seconds();
     if (k >= 2) {
       const Eigen::VectorXd rs = Mc.rowwise().sum();
@@ -323,7 +402,7 @@ class CrackSweep final : public FigureAnalysis {
       row_sum = largest_eigenvalue(Kc, Eigen::MatrixXd(rs.asDiagonal()), true);
       mls1 = largest_eigenvalue(Kc, Eigen::MatrixXd(dg.asDiagonal()), true);
     }
-    bar = largest_eigenvalue(Kbar, Mbar, true);
+    if (whole_bar) bar = largest_eigenvalue(Kbar, Mbar, true);
     t_assembly += b - a;
     t_solve += cpu_seconds() - b;
   }

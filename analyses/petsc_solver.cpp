@@ -206,7 +206,16 @@ PetscSolver::PetscSolver(const Eigen::SparseMatrix<double>& A, const PetscSolveS
   PC pc = nullptr;
   check(KSPGetPC(s.ksp.p, &pc), "KSPGetPC");
   check(PCSetType(pc, PCGAMG), "PCSetType");
-  check(KSPSetFromOptions(s.ksp.p), "KSPSetFromOptions");
+  // KSPSetFromOptions only reads the options database: its failure is an option of the user's
+  // that PETSc cannot take (a value of the wrong type or range, an unknown type name).
+  if (const PetscErrorCode code = KSPSetFromOptions(s.ksp.p); code != 0) {
+    const char* text = nullptr;
+    PetscErrorMessage(code, &text, nullptr);
+    throw InputError(fmt::format("PETSc could not apply the options '{}' (petsc_options, after "
+                                 "PETSC_OPTIONS): {}; check each option's value (a number, a "
+                                 "type name PETSc knows)",
+                                 setup.options, text ? text : "unknown error"));
+  }
   check(KSPGetTolerances(s.ksp.p, &s.rtol, &s.atol, &s.dtol, &s.max_it), "KSPGetTolerances");
   check(VecScatterCreateToAll(s.x.p, &s.to_all.p, &s.whole.p), "VecScatterCreateToAll");
 

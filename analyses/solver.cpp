@@ -108,6 +108,71 @@ void check_solver_choice(const SolverChoice& choice) {
         "petsc_options '{}' must start with an option name such as -ksp_type (PETSc's command "
         "line: '-ksp_type gmres -ksp_rtol 1e-10')",
         choice.petsc_options));
+  if (const std::string why = petsc_option_touching_files(choice.petsc_options); !why.empty())
+    throw InputError(fmt::format(
+        "petsc_options '{}': {}; mfv passes no PETSc option that reads or writes a file or starts "
+        "a program, from a manifest or the command line (a suite file must not touch yours): "
+        "use the option without a file ('-ksp_monitor' prints to stdout), or set PETSC_OPTIONS "
+        "in your own environment",
+        choice.petsc_options, why));
+}
+
+std::string petsc_option_touching_files(const std::string& text) {
+  // Options that read files, write logs or start programs whatever their value.
+  static const char* const kNames[] = {
+      "options_file", "options_file_yaml", "options_string_yaml", "log_trace", "log_view",
+      "log_summary", "log_all", "log_mpe", "log_perfstubs", "info", "history", "malloc_dump",
+      "malloc_view", "malloc_log", "objects_dump", "start_in_debugger", "on_error_attach_debugger",
+      "stop_for_debugger", "debugger_ranks", "debugger_pause", "display", "on_error_emacs",
+      "viewer_binary_filename", "viewer_binary_skip_info", "petscspace_view",
+      "saws_port", "saws_root", "python"};
+  std::vector<std::string> words;
+  {
+    std::string w;
+    for (char ch : text) {
+      if (ch == ' ' || ch == '\t' || ch == '\n') {
+        if (!w.empty()) words.push_back(w), w.clear();
+      } else {
+        w += ch;
+      }
+    }
+    if (!w.empty()) words.push_back(w);
+  }
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    const std::string& w = words[i];
+    if (w.size() < 2 || w[0] != '-' || (w[1] >= '0' && w[1] <= '9') || w[1] == '.') continue;
+    std::string name = w.substr(w[1] == '-' ? 2 : 1);
+    // A prefixed option (-sub_ksp_view, -fieldsplit_0_pc_type) keeps its meaning: match ends.
+    for (const char* n : kNames) {
+      const std::string bad(n);
+      if (name == bad || (name.size() > bad.size() &&
+                          name.compare(name.size() - bad.size(), bad.size(), bad) == 0 &&
+                          name[name.size() - bad.size() - 1] == '_'))
+        return fmt::format("'-{}' reads or writes files or starts a program", name);
+    }
+    // A viewer value "type:file[:format[:mode]]" (-ksp_monitor ascii:out.txt, -mat_view
+    // binary:A.dat) opens the file; "::ascii_info" and a bare type keep to stdout.
+    if (i + 1 < words.size() && words[i + 1][0] != '-') {
+      const std::string& v = words[i + 1];
+      // Viewers that write a file (binary writes "binaryoutput" when none is named), open a
+      // window or a socket, whatever follows.
+      static const char* const kViewers[] = {"binary", "hdf5", "vtk", "socket", "draw",
+                                             "matlab", "saws", "glvis", "adios", "mathematica"};
+      const std::string type = v.substr(0, v.find(':'));
+      for (const char* t : kViewers)
+        if (type == t)
+          return fmt::format("'-{} {}' opens a {} viewer (a file, window or socket)", name, v, t);
+      const auto colon = v.find(':');
+      if (colon != std::string::npos) {
+        const auto next = v.find(':', colon + 1);
+        const std::string file = v.substr(colon + 1, next == std::string::npos ? std::string::npos
+                                                                               : next - colon - 1);
+        if (!file.empty())
+          return fmt::format("'-{} {}' opens the file '{}'", name, v, file);
+      }
+    }
+  }
+  return {};
 }
 
 Eigen::VectorXd solve_sparse(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b,

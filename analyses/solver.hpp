@@ -30,6 +30,13 @@ struct SolverChoice {
 /// outside (0, 1) or NaN, petsc_options with a solver other than petsc.
 void check_solver_choice(const SolverChoice& choice);
 
+/// Why a PETSc options text would read or write a file or start a program, or "" if it does
+/// not: options that do so by name (-options_file, -log_view, -info, -history, the debugger
+/// and display options, also behind a prefix), and viewer values that name a file
+/// ("ascii:out.txt") or open a file, window or socket (binary, hdf5, vtk, draw, socket, …).
+/// check_solver_choice refuses them (issue 26): a manifest must not touch the user's files.
+std::string petsc_option_touching_files(const std::string& text);
+
 /// Solves A x = b. Fills info.solver, unknowns, nonzeros, fill, rcond, iterations, residual.
 /// Throws SingularError with the cause (and what to change) for a singular or numerically
 /// singular matrix, or when the result is not finite; InputError for an unknown `kind`.

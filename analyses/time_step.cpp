@@ -24,14 +24,17 @@ namespace {
 
 struct StepPair {
   double lumped = 0, consistent = 0;  ///< 0: not computed
+  double row_sum = 0;                 ///< row-sum lumped consistent mass; 0: not computed
   double power = 0;                   ///< engine's power iteration (lumped), 0 if not run
   double window = 0;                  ///< dilation a of the middle particle (eq 5.2.5's r)
-  CriticalStep lumped_detail, consistent_detail;
+  CriticalStep lumped_detail, consistent_detail, row_sum_detail;
+  GrkEq525Sum eq525_sums;             ///< eq 5.2.5 as a sum over the particles (Gaussian rkpm)
 };
 
 /// Δt of one method on the problem's particles.
 StepPair steps(const TimeStepDefinition& p, const Registries& cat, const Method& method,
-               int nodes, bool lumped, bool consistent, bool power, const EigenOptions& eo,
+               int nodes, bool lumped, bool consistent, bool row_sum, bool power,
+               const EigenOptions& eo,
                std::string* setup, std::string* description, int* particles, double* dxc,
                std::string* skipped = nullptr) {
   if (nodes < 3) throw InputError(fmt::format("time-step needs at least 3 nodes, got {}", nodes));
@@ -51,6 +54,14 @@ StepPair steps(const TimeStepDefinition& p, const Registries& cat, const Method&
   // The explicit engine's force tables span the particles only (no enrichment unknowns).
   refuse_enrichment(d, "the time-step analysis");
   if (description) *description = d.description;
+  // Row-sum mass: like the consistent one, only where the unknowns have shape functions.
+  if (d.particle_values) {
+    if (row_sum && !lumped)
+      throw InputError(fmt::format("{} has no shape-function values at its points "
+                                   "(collocation), so no row-sum mass; use mass=lumped",
+                                   d.description));
+    row_sum = false;
+  }
   if (consistent && lumped && d.particle_values) {
     // mass=both on a collocation method: its unknowns are particle values with no shape
     // functions at the points, so only the lumped mass exists.
@@ -64,6 +75,8 @@ StepPair steps(const TimeStepDefinition& p, const Registries& cat, const Method&
   if (dxc) *dxc = dx / c;
   const int n = d.particles.size();
   const double window = n > 0 ? d.particles.dilation[n / 2] : 0.0;
+  const GrkEq525Sum eq525_sums =
+      p.block ? GrkEq525Sum{} : grk_critical_step_eq525_sums(d, dx, c);
   std::vector<int> fixed;
   if (p.fixed)
     for (int I = 0; I < n; ++I)
@@ -81,6 +94,7 @@ StepPair steps(const TimeStepDefinition& p, const Registries& cat, const Method&
   ExplicitDynamics engine(method, std::move(d), std::move(model), opt);
   StepPair out;
   out.window = window;
+  out.eq525_sums = eq525_sums;
   CriticalStepOptions o;
   o.fixed = fixed;
   o.eigen = eo;
@@ -93,6 +107,11 @@ StepPair steps(const TimeStepDefinition& p, const Registries& cat, const Method&
     o.mass = MassKind::consistent;
     out.consistent_detail = critical_step(engine, masses, rho, o);
     out.consistent = out.consistent_detail.dt;
+  }
+  if (row_sum) {
+    o.mass = MassKind::row_sum;
+    out.row_sum_detail = critical_step(engine, masses, rho, o);
+    out.row_sum = out.row_sum_detail.dt;
   }
   if (power) out.power = engine.critical_time_step(60);
   if (setup)
@@ -117,7 +136,9 @@ class TimeStep final : public FigureAnalysis {
             .definition();
     const double t0 = cpu_seconds();
     const int nodes = c.spec.nodes > 0 ? c.spec.nodes : 21;
-    const bool want_lumped = p.mass != "consistent", want_consistent = p.mass != "lumped";
+    const bool want_lumped = p.mass == "lumped" || p.mass == "both",
+               want_consistent = p.mass == "consistent" || p.mass == "both",
+               want_row_sum = p.mass == "row-sum" || p.mass == "both";
     // mass=both on a collocation method: lumped only, said in the verdicts (steps()).
     bool consistent = want_consistent;
     std::string skipped;
@@ -126,8 +147,9 @@ class TimeStep final : public FigureAnalysis {
     std::string setup, description;
     int particles = 0;
     double dxc = 0;
-    const StepPair s = steps(p, c.plugins, c.method, nodes, want_lumped, consistent, want_lumped, eo,
-                             &setup, &description, &particles, &dxc, &skipped);
+    const StepPair s = steps(p, c.plugins, c.method, nodes, want_lumped, consistent, want_row_sum,
+                             want_lumped, eo, &setup, &description, &particles, &dxc, &skipped);
+    const bool row_sum = s.row_sum > 0;
     if (!skipped.empty()) consistent = false;
     const double t1 = cpu_seconds();
     r.particles = particles;
@@ -136,7 +158,9 @@ class TimeStep final : public FigureAnalysis {
     r.h = p.block ? 1.0 / (nodes - 1) : TimeStepDefinition::kL / (nodes - 1);
     r.method_description = description;
     FigureData& a = r.emplace<FigureData>();
-    const CriticalStep& any = want_lumped ? s.lumped_detail : s.consistent_detail;
+    const CriticalStep& any = want_lumped  ? s.lumped_detail
+                              : row_sum    ? s.row_sum_detail
+                                           : s.consistent_detail;
     a.setup = fmt::format("{}; {} free unknowns, reach {:.3g} Δx, {} colours, {} force "
                           "evaluations per mass; eigensolver: {}",
                           setup, any.unknowns, any.probe.reach / r.h, any.probe.colours,
@@ -155,11 +179,33 @@ class TimeStep final : public FigureAnalysis {
       a.verdicts.push_back(fmt::format("consistent mass: Δt = {:.5g} = {:.4f} Δx/c", s.consistent,
                                        s.consistent / dxc));
     }
+    if (row_sum) {
+      r.headline[kRowSum] = s.row_sum;
+      r.headline[kRowSumRatio] = s.row_sum / dxc;
+      a.verdicts.push_back(fmt::format("row-sum mass (consistent mass lumped by rows): Δt = "
+                                       "{:.5g} = {:.4f} Δx/c",
+                                       s.row_sum, s.row_sum / dxc));
+    }
     if (want_lumped && consistent) {
       r.headline[kMassRatio] = s.consistent / s.lumped;
       a.verdicts.push_back(fmt::format("consistent / lumped = {:.4f} (linear FEM in 1D: 1/√3 = "
                                        "0.5774)",
                                        s.consistent / s.lumped));
+    }
+    // Gaussian rkpm on the bar: 004 III eq 5.2.5 in each reading, beside our eigenvalues.
+    if (!p.block && c.spec.method == "rkpm" &&
+        c.plugins.methods.resolve("rkpm", c.spec.method_params).text("kernel") == "gaussian") {
+      const double eq525 = grk_critical_step_eq525(s.window, r.h, r.h / dxc);
+      r.headline[kEq525] = eq525;
+      r.headline[kEq525Node] = s.eq525_sums.at_middle;
+      r.headline[kEq525Min] = s.eq525_sums.smallest;
+      if (row_sum) r.headline[kEq525OverRowSum] = eq525 / s.row_sum;
+      if (want_lumped) r.headline[kEq525OverLumped] = eq525 / s.lumped;
+      a.verdicts.push_back(fmt::format(
+          "eq 5.2.5 (004 III's analytic column) for this window: continuous interior sum {:.5g} "
+          "s, the printed sum at the middle node {:.5g} s, its smallest value over x {:.5g} s "
+          "(at x = {:.4g})",
+          eq525, s.eq525_sums.at_middle, s.eq525_sums.smallest, s.eq525_sums.x_smallest));
     }
     if (any.eigen.asymmetry > 1e-6)
       a.verdicts.push_back(fmt::format("K is not symmetric (max |K − Kᵀ| / max |K| = {:.2e}): "
@@ -171,6 +217,7 @@ class TimeStep final : public FigureAnalysis {
       FigureData::Table t{"spectrum", {"mode"}, {}};
       std::vector<const std::vector<double>*> cols;
       if (want_lumped) t.columns.push_back("omega_lumped"), cols.push_back(&s.lumped_detail.eigen.spectrum);
+      if (row_sum) t.columns.push_back("omega_row_sum"), cols.push_back(&s.row_sum_detail.eigen.spectrum);
       if (consistent)
         t.columns.push_back("omega_consistent"), cols.push_back(&s.consistent_detail.eigen.spectrum);
       std::size_t rows = 0;
@@ -178,7 +225,12 @@ class TimeStep final : public FigureAnalysis {
       a.figures.push_back({"spectrum", "Frequencies of K φ = ω² M φ", "mode", "ω Δx / c", false,
                            "linespoints"});
       for (std::size_t k = 0; k < cols.size(); ++k) {
-        FigureData::Curve cv{"spectrum", t.columns[k + 1] == "omega_lumped" ? "lumped" : "consistent", {}, {}};
+        const std::string& col = t.columns[k + 1];
+        FigureData::Curve cv{"spectrum",
+                             col == "omega_lumped"    ? "lumped"
+                             : col == "omega_row_sum" ? "row-sum"
+                                                      : "consistent",
+                             {}, {}};
         for (std::size_t i = 0; i < cols[k]->size(); ++i) {
           const double l = (*cols[k])[i];
           cv.x.push_back(static_cast<double>(i + 1));
@@ -204,13 +256,14 @@ class TimeStep final : public FigureAnalysis {
         Params mq = base;
         mq.set("j", j);
         const auto m = c.plugins.methods.create("rkpm", mq);
-        return steps(p, c.plugins, *m, nodes, true, true, false, quiet, nullptr, nullptr, nullptr,
-                     nullptr);
+        return steps(p, c.plugins, *m, nodes, true, true, true, false, quiet, nullptr, nullptr,
+                     nullptr, nullptr);
       };
       if (!p.block) {
         FigureData::Table t{"grk-table",
-                              {"j", "dt_lumped", "dt_consistent", "paper_analytic",
-                               "eq525_ours", "paper_numeric", "fem_l_over_c"},
+                              {"j", "dt_lumped", "dt_row_sum", "dt_consistent",
+                               "paper_analytic", "eq525_ours", "eq525_sum_middle",
+                               "eq525_sum_smallest", "paper_numeric", "fem_l_over_c"},
                               {}};
         for (const auto& row : kGrkTable) {
           const StepPair q = at_j(row[0]);
@@ -218,12 +271,18 @@ class TimeStep final : public FigureAnalysis {
           const double eq525 = base.text("kernel") == "gaussian"
                                    ? grk_critical_step_eq525(q.window, r.h, r.h / dxc)
                                    : NAN;
-          t.rows.push_back({row[0], q.lumped, q.consistent, row[1], eq525, row[2], dxc});
+          const bool g = base.text("kernel") == "gaussian";
+          const double mid = g ? q.eq525_sums.at_middle : NAN;
+          const double low = g ? q.eq525_sums.smallest : NAN;
+          t.rows.push_back({row[0], q.lumped, q.row_sum, q.consistent, row[1], eq525, mid, low,
+                            row[2], dxc});
           a.verdicts.push_back(fmt::format(
-              "GRK j = {:g} ({} {}): Δt lumped {:.4g}, consistent {:.4g}; 004 analytic {:.4g} "
-              "(eq 5.2.5 as we read it: {:.4g}), numeric {:.4g} s",
-              row[0], base.text("kernel"), base.text("rule"), q.lumped, q.consistent, row[1],
-              eq525, row[2]));
+              "GRK j = {:g} ({} {}): Δt lumped (particle volumes) {:.4g}, row-sum {:.4g}, "
+              "consistent {:.4g}; 004 numeric {:.4g} s; 004 analytic {:.4g}, eq 5.2.5 as we "
+              "read it: continuous {:.4g}, sum at the middle node {:.4g}, smallest sum over x "
+              "{:.4g} s",
+              row[0], base.text("kernel"), base.text("rule"), q.lumped, q.row_sum, q.consistent,
+              row[2], row[1], eq525, mid, low));
         }
         a.tables.push_back(std::move(t));
       }

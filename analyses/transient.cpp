@@ -126,6 +126,16 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
   TransientData& td = r.data<TransientData>();
   td.dt = dt;
   td.dt_critical = dt_critical;
+  // Central differences are stable only for dt ≤ 2/ω_max. The critical step is the run's own
+  // (a Rayleigh quotient of the power iteration, so it lies at or above the true one): a step
+  // above it is unstable whatever the run shows before its end time, and is flagged at step 0
+  // (the run goes on, so that the report shows what it did).
+  if (std::isfinite(dt_critical) && dt_critical > 0 && dt > dt_critical * (1 + 1e-9))
+    td.instability = TransientData::Instability{
+        0, 0.0,
+        fmt::format("the time step dt = {:.6g} is {:.4g} × the critical step 2/ω_max = {:.6g} "
+                    "the run computed: central differences are unstable above it",
+                    dt, dt / dt_critical, dt_critical)};
   td.end_time = steps * dt;
   td.dynamics = sim.description();
   td.history_columns = {"time", "kinetic", "internal work", "external work", "energy balance"};
@@ -261,6 +271,15 @@ class TransientAnalysis final : public Analysis {
     // With no checkpoint the end time is the unit run_transient divides into whole steps:
     // steps × the target step gives exactly `steps` steps of the target step.
     if (def.steps > 0) def.end_time = static_cast<double>(def.steps) * step.target;
+    // A run whose errors are measured at checkpoints must reach one: an end time before the
+    // first would measure nothing and print every error as "–".
+    if (!checkpoints.empty() &&
+        *std::min_element(checkpoints.begin(), checkpoints.end()) > def.end_time * (1 + 1e-12))
+      throw InputError(fmt::format("{}: the run ends at t = {:.6g}, before its first checkpoint "
+                                   "t = {:.6g}: nothing would be measured; raise end_time (or "
+                                   "transits) past it",
+                                   def.label, def.end_time,
+                                   *std::min_element(checkpoints.begin(), checkpoints.end())));
     r.cpu.assembly = cpu_seconds() - t0;
     td.main_error = def.main_error;
     TransientMeasures m;

@@ -1,4 +1,5 @@
 #include "apps/commands.hpp"
+#include "methods/core/petsc_session.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -270,6 +271,7 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
                        : std::filesystem::path(o.report);
   std::unique_ptr<StagedDirectory> staged;
   if (!o.no_report) staged = stage_report(dir, o.force, spec.problem);
+  petsc::checks_done();  // under mpirun: every rank's checks passed before any collective work
   StudyResult study;
   study.label = study_label(spec);
   study.cases.push_back(run_case(c, spec));
@@ -323,6 +325,7 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
   spec.nodes = o.nodes;
   spec.perturbation = o.perturbation;
   spec.analysis = o.analysis;
+  petsc::checks_done();
   CaseResult r;
   try {
     r = run_case(c, spec);
@@ -406,6 +409,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
 
   std::unique_ptr<StagedDirectory> staged;
   if (!o.report.empty()) staged = stage_report(o.report, o.force, base.problem);
+  petsc::checks_done();
 
   const double w0 = wall_seconds(), c0 = cpu_seconds();
   std::vector<ReportSection> sections;
@@ -501,6 +505,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   }
   const Baseline baseline =
       manifest.baseline.empty() ? Baseline{} : load_baseline(manifest.baseline);
+  if (!baseline.suite.empty() && baseline.suite != manifest.name)
+    throw InputError(fmt::format("baseline {} records suite '{}', not this manifest's '{}'; point "
+                                 "[suite] baseline at '{}''s own baseline, or record one with "
+                                 "--update-baseline into a new file",
+                                 manifest.baseline.string(), baseline.suite, manifest.name,
+                                 manifest.name));
   if (o.update_baseline && !manifest.baseline.empty())
     check_output_file(manifest.baseline, "baseline", written_by_mfv_verify);
   const std::filesystem::path report_dir =
@@ -511,6 +521,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // The ledger is checked before the first case runs too (its rows name cases and values).
   std::optional<Ledger> ledger;
   if (!manifest.ledger.empty()) ledger = load_ledger(manifest.ledger, manifest, c);
+  petsc::checks_done();
 
   const double w0 = wall_seconds(), c0 = cpu_seconds();
   struct Outcome {
@@ -549,7 +560,23 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       if (mc.full_only) {
         // Runs only with --full: the baseline records the nightly, its bands guard it.
       } else if (o.update_baseline) {
-        if (!o.full) updated.cases[mc.id] = current;
+        // A number the baseline held that this run did not measure (NaN) is a lost
+        // measurement, never a new record: the case fails and keeps its old entry.
+        std::vector<Drift> lost;
+        if (const auto it = baseline.cases.find(mc.id); it != baseline.cases.end())
+          for (const Drift& d : check_drift(mc.id, it->second, current, INFINITY, 0))
+            if (std::isfinite(d.baseline) && !std::isfinite(d.current)) lost.push_back(d);
+        for (Drift& d : lost)
+          d.message = fmt::format("{}: {}{}: the baseline holds {:.6g}, this run measured "
+                                  "nothing; its baseline entry is kept (fix the run, or remove "
+                                  "the entry from {} by hand if the measurement went on purpose)",
+                                  mc.id, d.metric, d.nodes > 0 ? fmt::format(" at {} nodes", d.nodes) : "",
+                                  d.baseline, manifest.baseline.string());
+        if (lost.empty()) {
+          if (!o.full) updated.cases[mc.id] = current;
+        } else {
+          oc.drifts = std::move(lost);
+        }
       } else if (!manifest.baseline.empty()) {
         const auto it = baseline.cases.find(mc.id);
         if (it == baseline.cases.end()) {
@@ -620,7 +647,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     for (int n : resolutions(*oc.mc, o.full)) nodes.push_back(std::to_string(n));
     std::string base_state = manifest.baseline.empty() ? "none"
                              : oc.mc->full_only       ? "none (--full only)"
-                             : o.update_baseline      ? "updated"
+                             : o.update_baseline      ? (worse > 0 ? "kept (a measurement was lost)" : "updated")
                              : oc.drifts.empty()      ? "unchanged"
                                                       : fmt::format("{} drift(s)", oc.drifts.size());
     const bool vector_field = oc.study && !oc.study->cases.empty() &&
@@ -689,7 +716,9 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     if (o.full) {
       out << "baseline not updated: it records the default resolutions; run without --full\n";
     } else {
-      std::filesystem::create_directories(manifest.baseline.parent_path());
+      // A baseline beside a manifest in the working directory has no parent to create.
+      if (const auto parent = manifest.baseline.parent_path(); !parent.empty())
+        std::filesystem::create_directories(parent);
       write_file_atomic(manifest.baseline, baseline_to_toml(updated));
       out << fmt::format("baseline written: {}\n", manifest.baseline.string());
     }
@@ -794,8 +823,13 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
 }
 
 namespace {
-/// A CMake bracket argument that survives any case id.
-std::string bracket(const std::string& s) { return "[==[" + s + "]==]"; }
+/// A CMake bracket argument that survives any text: as many '=' as it takes for the closing
+/// bracket not to occur in it (a case id holding "]==]" would otherwise end the argument).
+std::string bracket(const std::string& s) {
+  std::string eq = "==";
+  while (s.find("]" + eq + "]") != std::string::npos) eq += '=';
+  return "[" + eq + "[" + s + "]" + eq + "]";
+}
 }  // namespace
 
 void command_manifest_ctest(const std::string& manifest_path, const std::string& mfv_executable,

@@ -1,5 +1,6 @@
 /// mfv: meshfree verification suite command line (CLI11).
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <new>
 #include <iostream>
@@ -34,6 +35,18 @@ CLI::Validator finite_in(double lo, double hi, bool hi_open, const std::string& 
         return {};
       },
       fmt::format("in [{}, {}{}", lo, hi, hi_open ? ")" : "]"));
+}
+
+/// A report directory named on the command line: `-r ''` is a mistake, not "no report".
+CLI::Validator non_empty_path(const std::string& option) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        return text.empty() ? fmt::format("{} '' names no directory; name one, or leave the "
+                                          "option out (--no-report writes none)",
+                                          option)
+                            : std::string();
+      },
+      "DIR");
 }
 
 }  // namespace
@@ -75,7 +88,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, std::numeric_limits<int>::max()));
   cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx")
       ->check(finite_in(0, 0.5, true, "--perturb"));
-  cmd_run->add_option("--vtk", run.vtk, "also write the particles and fields to this .vtp file");
+  cmd_run->add_option("--vtk", run.vtk, "also write the particles and fields to this .vtp file")
+      ->check(non_empty_path("--vtk"));
   cmd_run->add_option("--analysis", run.analysis,
                       "the analysis to run (default: the problem's first; see mfv list)");
 
@@ -96,7 +110,8 @@ int main(int argc, char** argv) {
     c->add_flag("--full", cmp.full, "the paper-size resolutions")->excludes(nodes);
     c->add_option("--perturb", cmp.perturbation, "random particle offsets, fraction of dx")
         ->check(finite_in(0, 0.5, true, "--perturb"));
-    c->add_option("--report,-r", cmp.report, "write a report into this directory");
+    c->add_option("--report,-r", cmp.report, "write a report into this directory")
+        ->check(non_empty_path("--report"));
     c->add_flag("!--no-vtk", cmp.vtk, "leave VTK files out of the report");
     c->add_flag("--force", cmp.force,
                 "replace an earlier mfv report even if files were added to it (never anything "
@@ -131,7 +146,8 @@ int main(int argc, char** argv) {
   cmd_analyse->add_option("--nodes,-n", ana.nodes, "resolution (default: the problem's own)")
       ->check(CLI::Range(1, std::numeric_limits<int>::max()));
   auto* ana_report = cmd_analyse->add_option("--report,-r", ana.report,
-                                             "report directory (default reports/<problem>-<method>)");
+                                             "report directory (default reports/<problem>-<method>)")
+                         ->check(non_empty_path("--report"));
   cmd_analyse->add_flag("--no-report", ana.no_report, "print only")->excludes(ana_report);
   cmd_analyse->add_flag("--force", ana.force, "replace an earlier mfv report even if files were "
                                               "added to it");
@@ -157,7 +173,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(3, 1000000));
   cmd_dispersion->add_option("--mass", mass, "lumped or consistent");
   cmd_dispersion->add_flag("--map", map, "also the (sigma, kappa) stable domain");
-  auto* dis_report = cmd_dispersion->add_option("--report,-r", dis.report, "report directory");
+  auto* dis_report = cmd_dispersion->add_option("--report,-r", dis.report, "report directory")
+                         ->check(non_empty_path("--report"));
   cmd_dispersion->add_flag("--no-report", dis.no_report, "print only")->excludes(dis_report);
   cmd_dispersion->add_flag("--force", dis.force, "replace an earlier mfv report even if files "
                                                  "were added to it");
@@ -172,7 +189,8 @@ int main(int argc, char** argv) {
   cmd_verify->add_flag("--update-baseline", ver.update_baseline,
                        "record this run's numbers as the baseline");
   auto* ver_report =
-      cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)");
+      cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)")
+          ->check(non_empty_path("--report"));
   cmd_verify->add_flag("--no-report", ver.no_report, "write no report")->excludes(ver_report);
   cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report");
   cmd_verify->add_flag("--force", ver.force, "replace an earlier mfv report even if files were "
@@ -182,7 +200,9 @@ int main(int argc, char** argv) {
   auto* cmd_ctest = app.add_subcommand(
       "manifest-ctest", "write a CTest script with one regression test per manifest case");
   cmd_ctest->add_option("manifest", ctest_manifest, "suite manifest (TOML)")->required();
-  cmd_ctest->add_option("--output,-o", ctest_output, "the CTest script to write")->required();
+  cmd_ctest->add_option("--output,-o", ctest_output, "the CTest script to write")
+      ->required()
+      ->check(non_empty_path("--output"));
   cmd_ctest->add_option("--mfv", ctest_mfv, "path of the mfv executable the tests run")
       ->required();
 
@@ -211,6 +231,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (rank > 0) {
+    // Rank 0 alone writes; the other ranks learn of its refusals at checks_done().
     run.vtk.clear();
     ana.no_report = dis.no_report = ver.no_report = true;
     ana.report.clear();
@@ -219,13 +240,35 @@ int main(int argc, char** argv) {
     ver.update_baseline = false;
     cmp.report.clear();
   }
+  // What the command printed must reach its reader: a full disk or a closed pipe behind
+  // stdout is a failure (exit 1), never a silent success.
+  auto flushed = [&](int status) {
+    out.flush();
+    if (out.rdbuf() != nullptr && !out) {  // the other ranks' `out` is a null sink
+      std::cerr << who << ": error: cannot write to standard output (disk full or the reader "
+                          "is gone)\n";
+      return status == 0 ? 1 : status;
+    }
+    return status;
+  };
+  // Under mpirun every rank ends through the same agreement (methods/core/petsc_session.hpp):
+  // all exit with the largest code, and one message is printed — rank 0's, or a failing
+  // rank's when rank 0 did not fail.
+  int status = 0;
+  std::string message;
+  bool other_rank = false;
   try {
     const mfv::Catalogue catalogue;
-    if (*list) mfv::command_list(catalogue, out);
-    if (*cmd_ctest && rank > 0) return 0;
-    if (*cmd_run) return mfv::command_run(catalogue, run, out);
-    if (*cmd_analyse) return mfv::command_analyse(catalogue, ana, out);
-    if (*cmd_dispersion) {
+    if (*list) {
+      mfv::command_list(catalogue, out);
+      status = flushed(0);
+    } else if (*cmd_ctest) {
+      if (rank == 0) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
+    } else if (*cmd_run) {
+      status = flushed(mfv::command_run(catalogue, run, out));
+    } else if (*cmd_analyse) {
+      status = flushed(mfv::command_analyse(catalogue, ana, out));
+    } else if (*cmd_dispersion) {
       dis.problem = "dispersion";
       std::string colon_angles = angles;
       std::replace(colon_angles.begin(), colon_angles.end(), ',', ':');
@@ -234,27 +277,46 @@ int main(int argc, char** argv) {
       if (!colon_angles.empty()) dis.problem_params += ",angles=" + colon_angles;
       if (!stress.empty()) dis.problem_params += ",stress=" + stress;
       if (map) dis.problem_params += ",map=sigma-kappa";
-      return mfv::command_analyse(catalogue, dis, out);
-    }
-    if (*cmd_study) {
+      status = flushed(mfv::command_analyse(catalogue, dis, out));
+    } else if (*cmd_study) {
       cmp.methods = {study_params.empty() ? study_method : study_method + ":" + study_params};
-      return mfv::command_compare(catalogue, cmp, out, err_progress);
+      status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+    } else if (*cmd_compare) {
+      status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+    } else if (*cmd_verify) {
+      status = flushed(mfv::command_verify(catalogue, ver, out, err_progress));
     }
-    if (*cmd_compare) return mfv::command_compare(catalogue, cmp, out, err_progress);
-    if (*cmd_verify) return mfv::command_verify(catalogue, ver, out, err_progress);
-    if (*cmd_ctest) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
+  } catch (const mfv::petsc::OtherRankFailed& e) {
+    status = e.code;
+    other_rank = true;
   } catch (const mfv::InputError& e) {
-    std::cerr << who << ": input error: " << e.what() << "\n";
-    return 2;
+    status = 2;
+    message = fmt::format("{}: input error: {}", who, e.what());
   } catch (const std::bad_alloc&) {
-    std::cerr << who << ": error: out of memory; lower --nodes or free memory\n";
-    return 1;
+    status = 1;
+    message = fmt::format("{}: error: out of memory; lower --nodes (or the problem parameter "
+                          "that sets the size) or free memory",
+                          who);
   } catch (const mfv::SingularError& e) {
-    std::cerr << who << ": singular: " << e.what() << "\n";
-    return 3;
+    status = 3;
+    message = fmt::format("{}: singular: {}", who, e.what());
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path no file system can hold is the user's input; anything else is a failure.
+    const auto c = e.code();
+    const bool input = c == std::errc::filename_too_long || c == std::errc::invalid_argument;
+    status = input ? 2 : 1;
+    message = fmt::format("{}{}{}{}", who, input ? ": input error: " : ": error: ", e.what(),
+                          input ? "; give a shorter or valid path" : "");
   } catch (const std::exception& e) {
-    std::cerr << who << ": error: " << e.what() << "\n";
-    return 1;
+    status = 1;
+    message = fmt::format("{}: error: {}", who, e.what());
   }
-  return 0;
+  if (!mpi) {
+    if (!message.empty()) std::cerr << message << "\n";
+    return status;
+  }
+  const mfv::petsc::Agreement agreed = mfv::petsc::finish(status);
+  if (!message.empty() && !other_rank && (rank == 0 || agreed.rank0_code == 0))
+    std::cerr << message << "\n";
+  return agreed.code;
 }

@@ -20,6 +20,14 @@ inline constexpr const char* kOnset = "onset kappa (pi/dx)";
 inline constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
 inline constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
 inline constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
+/// 000 eq 3.18 (what Fig. 3 plots) for the kbm-ni method's kernel and D_mx, in the two
+/// readings of its w_{,xx} (stability/closed_forms.hpp, Normalization): scanned, and by the
+/// three-point arccos formula (a second route, 1 < D_mx <= 2).
+inline constexpr const char* kOnsetFrozen = "onset kappa eq 3.18 frozen normalization (pi/dx)";
+inline constexpr const char* kOnsetShepard = "onset kappa eq 3.18 Shepard w'' (pi/dx)";
+inline constexpr const char* kOnsetFrozenArccos =
+    "onset kappa eq 3.18 frozen normalization, arccos (pi/dx)";
+inline constexpr const char* kOnsetShepardArccos = "onset kappa eq 3.18 Shepard w'', arccos (pi/dx)";
 }  // namespace dispersion_headline
 
 /// The lattice study a dispersion case runs.
@@ -34,6 +42,10 @@ struct DispersionDefinition {
   bool map = false;        ///< also the stable domain in the (σ̄, κ) plane
   double map_limit = 3;
   int half_width = 0;      ///< patch half width in spacings (0: from the supports)
+  /// ω² from 000's closed forms (stability/closed_forms.hpp) instead of the method's own
+  /// linearized force: a second route to the same verdicts, for kbm-ni and kbm-si where 000
+  /// derives them (eqs 3.12, 3.18, 3.23, 4.6, 4.17, 4.20, 4.26).
+  bool closed_form = false;
 
   int dim() const { return lattice == LatticeKind::line ? 1 : 2; }
   /// E in 1D, μ in 2D: the modulus σ̄ and the frequencies are normalized by.

@@ -16,7 +16,12 @@ struct EnrichedBarDefinition {
   int dim = 1;        ///< 1: the 003 bar; 2: the square patch (003 §4.3.1)
   int n = 10;         ///< particles per side
   int interval = 4;   ///< the node interval the crack is moved through
-  double tip = 0.9;   ///< 2D: relative y of the tip inside the middle row of cells
+  double tip = 0.9;   ///< 2D: relative y of the tip (003 §4.3.1: "relative position of y = 0.9")
+  /// What the tip's relative y is relative to: the middle row of cells (false) or the patch's
+  /// height (true); 003 does not say.
+  bool tip_in_patch = false;
+  /// The tip's y: inside the middle row of cells, or tip·(n − 1) over the patch.
+  double tip_y() const { return tip_in_patch ? tip * (n - 1) : (n / 2 - 1) + tip; }
   BarMaterial material;
   /// The problem's resolved parameters: the sweep's settings (dmax, dmax_count, dmax_step,
   /// positions, mass, mls1, tip, fit ...).

@@ -20,6 +20,7 @@
 #include "problems/problem.hpp"
 #include "problems/time_step.hpp"
 #include "problems/transient_problem.hpp"
+#include "stability/critical_step.hpp"
 
 namespace mfv {
 
@@ -31,6 +32,10 @@ constexpr const char* kErrS2 = "error stress at 2.5 L/c";
 constexpr const char* kErrV2 = "error v at 2.5 L/c";
 constexpr const char* kCritical = "critical dt";
 constexpr const char* kEq525 = "critical dt (eq 5.2.5)";  ///< 004 III's analytic column
+/// The other readings of eq 5.2.5 (problems/time_step.hpp): its sum over the particles at the
+/// middle node, and the smallest step of that sum over x.
+constexpr const char* kEq525Node = "critical dt (eq 5.2.5, sum at the middle node)";
+constexpr const char* kEq525Min = "critical dt (eq 5.2.5, sum, smallest over x)";
 constexpr const char* kPeak = "peak velocity / v*";
 constexpr const char* kUnstable = "unstable";
 constexpr const char* kFlow = "max stress / flow stress";
@@ -73,6 +78,7 @@ class GrkBar final : public TransientProblem {
     sigma_y_ = p.number("sigma_y");
     Ep_ = p.number("Ep_ratio") * E_;
     courant_ = p.number("courant");
+    row_sum_ = p.text("mass") == "row-sum";
     end_time_ = p.number("end_time") > 0 ? p.number("end_time") : 4 * L_ / c();
     if (Ep_ >= E_)
       throw InputError(fmt::format("grk-bar: Ep_ratio = {} must be below 1", p.number("Ep_ratio")));
@@ -127,8 +133,15 @@ class GrkBar final : public TransientProblem {
       model.material = in.materials.create("svk", mp);  // 1D: S = E E11, Hooke for small strain
     }
     model.density = rho_;
-    // Mass per unit length times A = 1 in²: ρ V_I (half at the ends).
-    model.mass = lumped_masses(d.particles, rho_ * A_, MassLumping::volume);
+    // Mass per unit length times A = 1 in²: ρ V_I (half at the ends), or the row sums of the
+    // consistent mass of eq 4.0.2 (004 III §4.0: "the element matrices are simple, included
+    // a lumped mass matrix"; which lumping is not said).
+    if (row_sum_ && d.particle_values)
+      throw InputError(fmt::format("grk-bar: mass=row-sum lumps the consistent mass, which {} "
+                                   "(a collocation method) does not have; use mass=volume",
+                                   d.description));
+    model.mass = row_sum_ ? row_sum_masses(d, rho_ * A_)
+                          : lumped_masses(d.particles, rho_ * A_, MassLumping::volume);
     // Fixed end: the velocity parameter of the particle at x = 0 (004 does not say how the
     // support was imposed on the non-interpolating GRK functions).
     model.prescribed = {{0, 0, 0.0}};
@@ -266,9 +279,14 @@ class GrkBar final : public TransientProblem {
       m.headline[kCritical] = out.dt_critical;
       // 004 III eq 5.2.5 as problems/time_step.hpp reads it, for the Gaussian window of this
       // run.
-      if (gaussian_rkpm)
+      if (gaussian_rkpm) {
         m.headline[kEq525] = grk_critical_step_eq525(
             sim.discretization().particles.dilation[n / 2], L_ / (n - 1), c());
+        const GrkEq525Sum sums =
+            grk_critical_step_eq525_sums(sim.discretization(), L_ / (n - 1), c());
+        m.headline[kEq525Node] = sums.at_middle;
+        m.headline[kEq525Min] = sums.smallest;
+      }
       m.headline["critical dt / FEM dt"] = out.dt_critical / dt_fem;
       m.headline["dt / FEM dt"] = out.dt / dt_fem;
       m.headline[kPeak] = peak / v_star();
@@ -305,6 +323,12 @@ class GrkBar final : public TransientProblem {
         "closed form solution' and that j = 0 ran at 3.32e-5 s, 1.35 times the FEM step, less "
         "accurately than FEM. Our errors are relative L2 norms of u and σ on the method's "
         "Gauss points and of v at the particles, at 1.5 L/c and 2.5 L/c.",
+        "Mass: the particle volumes ρAΔV_I (mass=volume, the default) or the consistent mass of "
+        "004 III eq 4.0.2 lumped by rows (mass=row-sum; §4.0 says only that the element "
+        "matrices include \"a lumped mass matrix\"). The row sums give the critical steps of "
+        "the paper's numeric column (2.432e-5, 3.223e-5, 5.674e-5 s against 2.432e-5, "
+        "3.223e-5, 5.651e-5); the volumes 3.153e-5 and 5.255e-5 at j = 0, 1. Under either, "
+        "j = 0 at 1.35 l/c (the paper's Fig. 14 run, 3.32e-5 s) is above the critical step.",
         "Which end is fixed, how the fixed end is imposed on the non-interpolating GRK "
         "functions and the Newmark γ are not stated: we fix x = 0 through its velocity "
         "parameter, load x = L through the test functions there, and use γ = 1/2.",
@@ -321,7 +345,7 @@ class GrkBar final : public TransientProblem {
   Params p_;
   double L_ = 100, A_ = 1, E_ = 3e7, rho_ = 7.24e-4;
   double F0_ = 5000, sigma_y_ = 30000, Ep_ = 0.75e7, courant_ = 1, end_time_ = 0;
-  bool plastic_ = false;
+  bool plastic_ = false, row_sum_ = false;
 };
 
 }  // namespace
@@ -339,6 +363,9 @@ void register_grk_bar(ProblemRegistry& r) {
                         "time step over the FEM step l/c (004: 1 and 1.35); 0: the engine's "
                         "dt / safety parameters"),
       ParamSpec::number("end_time", 0.0, "simulated time (s); 0: one period 4L/c"),
+      ParamSpec::choice("mass", "volume", {"volume", "row-sum"},
+                        "lumped mass: volume (ρ A ΔV_I, the particle masses ΔM_J of 004 II eq "
+                        "4.3) or row-sum (the consistent mass of 004 III eq 4.0.2 lumped by rows)"),
   };
   r.add("grk-bar",
         "1D bar E=3e7 psi, rho=7.24e-4 slug/in^3, A=1, L=100 in, fixed at 0, step force "

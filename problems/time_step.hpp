@@ -18,6 +18,17 @@ inline constexpr const char* kConsistent = "dt consistent";
 inline constexpr const char* kLumpedRatio = "dt lumped / (dx/c)";
 inline constexpr const char* kConsistentRatio = "dt consistent / (dx/c)";
 inline constexpr const char* kMassRatio = "dt consistent / dt lumped";
+/// Row-sum lumping of the consistent mass (stability/critical_step.hpp, row_sum_masses).
+inline constexpr const char* kRowSum = "dt row-sum";
+inline constexpr const char* kRowSumRatio = "dt row-sum / (dx/c)";
+/// Gaussian rkpm: 004 III eq 5.2.5, each reading of the printed equation (grk_eq525_*).
+inline constexpr const char* kEq525 = "dt eq 5.2.5";
+inline constexpr const char* kEq525Node = "dt eq 5.2.5 (sum at the middle node)";
+inline constexpr const char* kEq525Min = "dt eq 5.2.5 (sum, smallest over x)";
+/// 004 III's two columns side by side: analytic over numeric (the paper's: 1.010, 1.078,
+/// 0.869 for j = −1, 0, 1), ours with the numeric step of each mass.
+inline constexpr const char* kEq525OverRowSum = "dt eq 5.2.5 / dt row-sum";
+inline constexpr const char* kEq525OverLumped = "dt eq 5.2.5 / dt lumped";
 
 }  // namespace time_step_headline
 
@@ -35,7 +46,7 @@ struct TimeStepDefinition {
   static constexpr double kL = 100, kA = 1, kE = 3e7, kRho = 7.24e-4;  ///< 004 III §6 bar
   static constexpr double kBlockE = 1, kBlockNu = 0.25, kBlockRho = 1;   ///< 2D block
   bool block = false;            ///< the 2:1 plane-strain block (else the bar)
-  std::string mass = "both";     ///< lumped, consistent or both
+  std::string mass = "both";     ///< lumped, consistent, row-sum or both (all three)
   bool fixed = true;             ///< x = 0 (bar) or the left side (block) held
   KernelFrame frame = KernelFrame::lagrangian;
   bool sweep = true;             ///< rkpm: Δt against j as well
@@ -70,5 +81,23 @@ class TimeStepProblem final : public Problem {
 /// With r = 2^j dx √(2/π) (eq 2.5.2) this is 2^{(j+2)/2} l/c. NaN unless r, dx, c are
 /// positive and finite.
 double grk_critical_step_eq525(double r, double dx, double c);
+
+/// The sum of eq 5.2.3 taken as printed, a sum over the particles i at one point x, with
+/// the trapezoidal weights Δx_i = ΔV_i ("Dx_i is the integration weight using Trapezoidal
+/// Rule"): the GRK function is N_i(x) = k(x, x_i) ΔV_i (eq 5.2.8), so
+///   Σ(x) = Σ_i k_x(x, x_i)² ΔV_i = Σ_i N_i'(x)² / ΔV_i.
+/// `t`: a table of one point (order ≥ 1), `volume`: ΔV_i per particle.
+double grk_eq523_sum(const ShapeTable& t, const Eigen::VectorXd& volume);
+/// Eqs 5.2.3–5.2.4 with a given sum: Δt = 2/√λ_max, λ_max = (2c²/l²) r² dx Σ (l = dx).
+/// NaN unless every argument is positive and finite.
+double grk_critical_step_eq525_sum(double sum, double r, double dx, double c);
+/// The smallest eq 5.2.5 step over x ∈ [x_0, x_n] (`per_spacing` points per spacing, the
+/// particles included) and the one at the middle particle, for the discretization `d` of
+/// Gaussian window r (the middle particle's dilation), spacing dx and wave speed c.
+struct GrkEq525Sum {
+  double at_middle = NAN, smallest = NAN, x_smallest = NAN;
+};
+GrkEq525Sum grk_critical_step_eq525_sums(const Discretization& d, double dx, double c,
+                                         int per_spacing = 8);
 
 }  // namespace mfv

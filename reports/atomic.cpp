@@ -160,7 +160,16 @@ struct StagingRegistry {
 };
 
 bool is_pid_suffix(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  return !s.empty() && s.size() <= 9 &&
+         std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+/// Whether the process `pid` (decimal) is alive. Our own pid counts as dead: a directory
+/// named after it before we created ours was left by an earlier process of that pid.
+bool pid_alive(const std::string& pid) {
+  const long p = std::stol(pid);
+  if (p <= 0 || p == ::getpid()) return false;
+  return ::kill(static_cast<pid_t>(p), 0) == 0 || errno == EPERM;
 }
 
 }  // namespace
@@ -246,7 +255,20 @@ void check_output_file(const fs::path& path, const std::string& what,
                        bool (*ours)(const std::string& head)) {
   std::error_code ec;
   const fs::file_status st = fs::symlink_status(path, ec);
-  if (st.type() == fs::file_type::not_found) return;
+  if (st.type() == fs::file_type::not_found) {
+    // Checked before any computation: the file is written next to itself (a temporary and a
+    // rename), so its directory must exist and be writable now, not after an hour's run.
+    const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    if (!fs::is_directory(dir, ec))
+      throw InputError(fmt::format("{} '{}': the directory '{}' does not exist; create it or give "
+                                   "another path",
+                                   what, path.string(), dir.string()));
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw InputError(fmt::format("{} '{}': the directory '{}' is not writable ({}); give "
+                                   "another path",
+                                   what, path.string(), dir.string(), errno_text(errno)));
+    return;
+  }
   if (st.type() != fs::file_type::regular)
     throw InputError(fmt::format("{} '{}' exists and is {}; mfv never replaces it: give another "
                                  "file name",
@@ -305,19 +327,27 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
         throw InputError(fmt::format("cannot lock '{}': it keeps being replaced", lock_.string()));
     }
   }
-  // Under the lock no other live run writes this target: every staging or old copy of it is
-  // a dead run's (or a recycled pid's) and is removed.
+  // Under the lock no other live run writes this target; a staging or old copy of it left by
+  // a dead run is removed, but only one that mfv's markers say is ours (a staging directory
+  // holds kStagingMarker from its creation, an old copy the previous report's kReportMarker)
+  // and whose pid is not alive: a directory of the user's that only looks like ours stays.
   const std::string stage_prefix = fmt::format(".{}.staging-", name);
   const std::string old_prefix = fmt::format(".{}.old-", name);
   try {
     for (const auto& e : fs::directory_iterator(dir)) {
       const std::string n = e.path().filename().string();
-      for (const auto& prefix : {stage_prefix, old_prefix})
-        if (n.rfind(prefix, 0) == 0 && is_pid_suffix(n.substr(prefix.size())) &&
-            e.symlink_status().type() == fs::file_type::directory) {
-          std::error_code ignored;
+      for (const auto& prefix : {stage_prefix, old_prefix}) {
+        if (n.rfind(prefix, 0) != 0 || !is_pid_suffix(n.substr(prefix.size())) ||
+            e.symlink_status().type() != fs::file_type::directory)
+          continue;
+        if (pid_alive(n.substr(prefix.size()))) continue;
+        std::error_code ignored;
+        if (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
+            read_report_marker(e.path()))
           fs::remove_all(e.path(), ignored);
-        }
+        else
+          fs::remove(e.path(), ignored);  // only if empty: an empty directory holds nothing
+      }
     }
   } catch (const fs::filesystem_error&) {
     // An unlistable parent fails below, where the staging directory is created.
@@ -329,7 +359,19 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
     reg.live.insert(staging_);
     reg.locks.insert(lock_);
   }
-  if (!fs::create_directory(staging_, ec) || ec) {
+  const bool created = fs::create_directory(staging_, ec) && !ec;
+  if (created) {
+    // Marks the directory as mfv's from its first moment, for the clean-up of a later run
+    // should this one be killed.
+    try {
+      write_file_atomic(staging_ / kStagingMarker,
+                        fmt::format("mfv-staging 1\npid {}\ntarget {}\n", ::getpid(), target_.string()));
+    } catch (const std::exception& e) {
+      fs::remove_all(staging_, ec);
+      ec = std::make_error_code(std::errc::io_error);
+    }
+  }
+  if (!created || ec) {
     {
       auto& reg = StagingRegistry::get();
       std::lock_guard<std::mutex> hold(reg.mutex);
@@ -372,6 +414,8 @@ void StagedDirectory::commit() {
                                    options_.suite.empty() ? "-" : options_.suite,
                                    utc_now("%Y-%m-%dT%H:%M:%SZ"),
                                    MFV_VERSION);
+  std::error_code gone;
+  fs::remove(staging_ / kStagingMarker, gone);  // the report's own marker takes its place
   for (const auto& f : files_below(staging_))
     if (f != kReportMarker) marker += fmt::format("file {}\n", f);
   write_file_atomic(staging_ / kReportMarker, marker);

@@ -41,6 +41,10 @@ class PendingFile {
 /// directory is replaced only when it is absent, empty, or holds this marker.
 inline constexpr const char* kReportMarker = ".mfv-report";
 
+/// The marker of a staging directory from its creation until commit() ("mfv-staging 1", the
+/// pid and the target): what lets a later run remove it after a SIGKILL, and nothing else.
+inline constexpr const char* kStagingMarker = ".mfv-staging";
+
 /// What a report directory's marker says; `files` are the paths mfv wrote, relative to it.
 struct ReportMarker {
   std::string suite, time, version;
@@ -61,8 +65,9 @@ std::optional<ReportMarker> read_report_marker(const std::filesystem::path& dir)
 ///   replace one of its own reports to which files were added, never anything else;
 /// - `<parent>/.<name>.mfv-lock` is locked (flock) against a second writer of the target and
 ///   removed when this object goes;
-/// - staging and old copies left by dead runs for this target are removed (they are ours:
-///   only names of the form `.<name>.staging-<pid>` / `.<name>.old-<pid>` are touched);
+/// - staging and old copies left by dead runs for this target are removed: only directories
+///   named `.<name>.staging-<pid>` / `.<name>.old-<pid>` whose pid is not alive and that hold
+///   mfv's marker (kStagingMarker, or a report's kReportMarker), or are empty;
 /// - the staging directory is created, which proves the parent writable.
 /// A run that fails before commit() leaves the previous report untouched; the destructor only
 /// removes the staging directory. With install_staging_cleanup() a SIGINT, SIGTERM or SIGHUP

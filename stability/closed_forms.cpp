@@ -41,6 +41,9 @@ struct RadialWeight {
 /// z = offset·dx + j·dx for every j with |z| < h (+ a margin; W = 0 beyond).
 struct Sums1D {
   std::vector<double> z, w, dw, d2w;  // Shepard w, w', w'' (frozen normalization) at z
+  /// The Shepard function's own second derivative at z, normalization included:
+  /// d²/dx² [W(x − x_K)/S(x)] = W''/S − W S''/S² (S' = 0 at a particle or a midpoint).
+  std::vector<double> d2w_shepard;
   double S = 0;                       // Σ W(z)
   double a = 0;                       // eq 2.20: 1/Σ_K w_{K,X} X_K = −1/Σ_z w'(z) z
 };
@@ -60,7 +63,10 @@ Sums1D sums_1d(const Kernel& W, double dmx, double dx, double offset) {
     s.d2w.push_back(d2w);
     s.S += w;
   }
-  double m1 = 0;
+  double m1 = 0, S2 = 0;  // S2 = S'' = Σ W''(z)
+  for (double v : s.d2w) S2 += v;
+  for (std::size_t i = 0; i < s.z.size(); ++i)
+    s.d2w_shepard.push_back(s.d2w[i] / s.S - s.w[i] * S2 / (s.S * s.S));
   for (std::size_t i = 0; i < s.z.size(); ++i) {
     s.w[i] /= s.S;
     s.dw[i] /= s.S;
@@ -77,9 +83,11 @@ double sine_sum(const Sums1D& s, double kappa) {
   for (std::size_t i = 0; i < s.z.size(); ++i) t += s.dw[i] * std::sin(kappa * s.z[i]);
   return t;
 }
-double cosine_sum(const Sums1D& s, double kappa) {
+double cosine_sum(const Sums1D& s, double kappa,
+                  Normalization n = Normalization::frozen) {
+  const std::vector<double>& d2 = n == Normalization::frozen ? s.d2w : s.d2w_shepard;
   double q = 0;
-  for (std::size_t i = 0; i < s.z.size(); ++i) q += s.d2w[i] * (1 - std::cos(kappa * s.z[i]));
+  for (std::size_t i = 0; i < s.z.size(); ++i) q += d2[i] * (1 - std::cos(kappa * s.z[i]));
   return q;
 }
 
@@ -131,6 +139,90 @@ double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_ba
     prev = x;
   }
   return kNaN;
+}
+
+double omega2_eulerian_nodal_1d(const Kernel& W, double dmx, double dx, double kappa,
+                                double C_sigmaT, double sigma, double rho, Normalization n) {
+  const Sums1D s = sums_1d(W, dmx, dx, 0.0);
+  const double t = sine_sum(s, kappa), q = cosine_sum(s, kappa, n);
+  return s.a * (C_sigmaT + sigma) / rho * t * t - sigma / rho * (q - s.a * t * t);
+}
+
+double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
+                                    Normalization n) {
+  auto f = [&](double x) { return omega2_eulerian_nodal_1d(W, dmx, 1.0, x, 1.0, sigma_bar, 1.0, n); };
+  const int steps = 4000;
+  double prev = 0;
+  for (int i = 1; i <= steps; ++i) {
+    const double x = M_PI * i / steps;
+    if (f(x) < 0) {
+      double lo = prev, hi = x;  // f(lo) >= 0 (or lo = 0), f(hi) < 0
+      while (hi - lo > 1e-12) {
+        const double mid = 0.5 * (lo + hi);
+        (f(mid) < 0 ? hi : lo) = mid;
+      }
+      return hi / M_PI;
+    }
+    prev = x;
+  }
+  return kNaN;
+}
+
+double onset_wavenumber_eulerian_three_point(const Kernel& W, double dmx, double sigma_bar,
+                                             Normalization n) {
+  if (!(dmx > 1 && dmx <= 2))
+    throw std::invalid_argument("closed_form: the three-point onset needs 1 < D_mx <= 2");
+  const Sums1D s = sums_1d(W, dmx, 1.0, 0.0);
+  const std::vector<double>& d2 = n == Normalization::frozen ? s.d2w : s.d2w_shepard;
+  double w1 = 0, w2 = 0;  // w'(Δx) and w''(Δx): the neighbour at z = +Δx
+  for (std::size_t i = 0; i < s.z.size(); ++i)
+    if (std::abs(s.z[i] - 1.0) < 1e-12) {
+      w1 = s.dw[i];
+      w2 = d2[i];
+    }
+  // ω²ρ/C^{σT} = (1 − cos κ)[4a(1 + 2σ̄)w'² (1 + cos κ) − 2σ̄ w'']: negative iff
+  // cos κ < β − 1, β = 2σ̄ w''/(4a(1 + 2σ̄) w'²).
+  const double beta = 2 * sigma_bar * w2 / (4 * s.a * (1 + 2 * sigma_bar) * w1 * w1);
+  if (!(beta > 0)) return kNaN;  // never negative
+  if (beta >= 2) return 0.0;     // negative at every κ > 0
+  return std::acos(beta - 1) / M_PI;
+}
+
+double cell_alpha_limit(const Kernel& W, CellLumping lumping, bool trimmed) {
+  // φ(ξ) = W(|ξ|)/∫W over the support ξ ∈ [−1, 1] (ξ in support radii); the integrands are
+  // even in ξ, so integrate over [0, 1] (or [0, 1/2] trimmed): composite 5-point
+  // Gauss–Legendre on 2000 panels (a panel edge falls on ξ = 1/2, the cubic spline's break
+  // point, so each panel integrates a smooth piece).
+  static const double gx[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
+                               0.5384693101056831, 0.9061798459386640};
+  static const double gw[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                               0.4786286704993665, 0.2369268850561891};
+  const double q = W.support();
+  auto integrate = [&](double b, auto&& f) {
+    const int panels = 2000;
+    const double h = b / panels;
+    double sum = 0;
+    for (int p = 0; p < panels; ++p)
+      for (int k = 0; k < 5; ++k) {
+        const double xi = h * (p + 0.5 + 0.5 * gx[k]);
+        double s = xi * q, w, dw;
+        W.evaluate({&s, 1}, {&w, 1}, {&dw, 1}, {});
+        sum += 0.5 * h * gw[k] * f(w, dw * q);  // dW/dξ = q dW/ds
+      }
+    return 2 * sum;  // both halves of the support
+  };
+  const double b = trimmed ? 0.5 : 1.0;
+  const double total = integrate(1.0, [](double w, double) { return w; });
+  const double kept = integrate(b, [](double w, double) { return w; }) / total;  // ∫φ kept
+  if (lumping == CellLumping::row_sum) {
+    const double fisher = integrate(b, [](double w, double dw) { return w > 0 ? dw * dw / w : 0.0; });
+    return fisher / total / kept;
+  }
+  if (!trimmed) return std::numeric_limits<double>::infinity();
+  const double phi2 = integrate(b, [](double w, double) { return w * w; }) / (total * total);
+  const double log_fisher =
+      integrate(b, [](double w, double dw) { return w > 0 ? dw * dw / (w * w) : 0.0; });
+  return phi2 * log_fisher;
 }
 
 StressThreshold stable_threshold_lagrangian_1d(const Kernel& W, double dmx, double kappa_dx,

@@ -99,6 +99,29 @@ double omega2_lagrangian_stress_points_1d(const Kernel& W, double dmx, double dx
 double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
                                     double c_sign = 1.0);
 
+/// What eq 3.18's w_{,xx}(jΔx) is (000 §3.1.2 leaves it open). `frozen`: the second
+/// derivative of W(x − x_I)/S0 with the normalization fixed at its uniform value, as eq 3.16
+/// (w̃_{I,x}(x_J) = w_{I,xx}(x_J)(ũ_J − ũ_I)) and the radial Hessian of eq 4.12 treat w_I: a
+/// function of x_J − x_I alone. `shepard`: the second derivative of the Shepard function
+/// w_I = W/ΣW itself (eq 2.7), d²/dx²[W(x − x_I)/S(x)] = W''/S − W S''/S² at a particle
+/// (S' = 0 there). Quartic spline, D_mx = 1.5, σ̄ = 1: onset 0.500 (frozen), 0.471 (shepard).
+enum class Normalization { frozen, shepard };
+
+/// Eq 3.18 with w_{,xx} read as `n` (omega2_eulerian_nodal_1d is the frozen reading).
+double omega2_eulerian_nodal_1d(const Kernel& W, double dmx, double dx, double kappa,
+                                double C_sigmaT, double sigma, double rho, Normalization n);
+/// Smallest κ in (0, π/Δx] with ω² < 0 in eq 3.18 read as `n`, C^{σT} > 0 (000 Fig. 3), in
+/// π/Δx; NaN if none. Scanned on 4000 wave numbers, then bisected to 1e-12.
+double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
+                                    Normalization n);
+/// The same onset by a second route, without a scan: for 1 < D_mx <= 2 only the neighbours
+/// j = ±1 enter eq 3.18, T = 2w'(Δx) sin κΔx, Q = 2w''(Δx)(1 − cos κΔx), and
+///   ω²ρ/C^{σT} = (1 − cos κΔx)[4a(1 + 2σ̄) w'² (1 + cos κΔx) − 2σ̄ w''],
+/// negative iff cos κΔx < β − 1, β = 2σ̄ w''/(4a(1 + 2σ̄) w'²): κ_onset = arccos(β − 1)/π
+/// (NaN if β <= 0: stable; 0 if β >= 2). std::invalid_argument outside 1 < D_mx <= 2.
+double onset_wavenumber_eulerian_three_point(const Kernel& W, double dmx, double sigma_bar,
+                                             Normalization n);
+
 /// The stress at which ω²(κ) = 0 (000 Figs 5–6): the response at κ is stable (ω² >= 0) for
 /// σ̄ >= sigma_bar if stable_above, for σ̄ <= sigma_bar otherwise. sigma_bar is NaN where
 /// ω² = 0 for every σ̄ (κ = 0, and the cut-off κ = π/Δx of eq 3.12), ±inf where ω² has the
@@ -168,5 +191,27 @@ Eigen::Matrix2d correction_matrix_2d(const Kernel& W, const Setup2D& s,
 /// Continuum reference: eigenvalues (ascending) of the acoustic tensor
 /// Q_ir = (C_jirl + S_jl δ_ir) k_j k_l / ρ, i.e. ρω² of the linearized PDE at F = I.
 std::array<double, 2> omega2_continuum_2d(const Setup2D& s, double kappa, double theta);
+
+// ──────────────── 003 §4.3.3: the α of eq 30 as DMAX grows ────────────────
+
+/// The lumped cell masses of 003 §4.3.3: row sum (003's MLS2 without enrichment) and MLS1
+/// (eq 16: m_I = Δx M_II/Σ_J M_JJ).
+enum class CellLumping { row_sum, mls1 };
+
+/// α∞ = lim_{DMAX→∞} λ_max(K_cell, M_cell) DMAX² (eqs 27–30 with E = ρ = Δx = 1) for one
+/// interior integration cell of a uniform 1D bar, EFG with a linear basis and weight W whose
+/// support radius is DMAX·Δx; `trimmed`: only the nodes whose middle half of the support
+/// [0.25 s, 0.75 s] covers the cell (003's heuristic). Derivation: as DMAX → ∞ the linear-basis
+/// MLS functions become Shepard functions, Φ_I(x) = φ(ξ_I)/R, φ = W/∫W, ξ_I = (x_I − x)/R
+/// (the first moment and its derivative vanish on the lattice's continuum limit). Every Gauss
+/// point of the cell sees the same φ to O(1/R), so K_cell → Δx g gᵀ (rank one, g_I = Φ'_I =
+/// φ'(ξ_I)/R²) and λ_max = Δx Σ_I g_I²/m_I; the sum over nodes tends to R ∫ dξ:
+///   row sum   m_I = ∫_cell Φ_I Σ_J Φ_J = Δx φ_I/R · P   ⇒  α∞ = (1/P) ∫ φ'²/φ dξ,
+///   MLS1      m_I = Δx φ_I²/(R ∫φ²)                   ⇒  α∞ = ∫φ² · ∫ (φ'/φ)² dξ,
+/// integrals over |ξ| <= 1 (<= 1/2 trimmed), P = ∫φ over the kept nodes (1 untrimmed). The
+/// untrimmed MLS1 integrand (φ'/φ)² ~ (1 − |ξ|)^{-2} at the support's edge is not integrable:
+/// +∞ (the "very small contributions" that 003 says enlarge λ). Cubic spline: 12.4629 (row
+/// sum), 7.0504 (row sum trimmed), 9.9658 (MLS1 trimmed); 003: 12.46, 7.1, 10.
+double cell_alpha_limit(const Kernel& W, CellLumping lumping, bool trimmed);
 
 }  // namespace mfv::closed_form

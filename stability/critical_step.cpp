@@ -110,11 +110,17 @@ double table_radius(const ShapeTable& t, const Eigen::MatrixXd& points, const Ei
 MassKind mass_kind_from(const std::string& name) {
   if (name == "lumped") return MassKind::lumped;
   if (name == "consistent") return MassKind::consistent;
-  throw InputError(fmt::format("unknown mass '{}': use lumped or consistent", name));
+  if (name == "row-sum") return MassKind::row_sum;
+  throw InputError(fmt::format("unknown mass '{}': use lumped, consistent or row-sum", name));
 }
 
 std::string to_string(MassKind kind) {
-  return kind == MassKind::lumped ? "lumped" : "consistent";
+  switch (kind) {
+    case MassKind::lumped: return "lumped";
+    case MassKind::consistent: return "consistent";
+    case MassKind::row_sum: return "row-sum";
+  }
+  return "?";
 }
 
 std::vector<int> free_unknowns(int unknowns, const std::vector<int>& fixed) {
@@ -257,6 +263,21 @@ SpMat consistent_mass(const Discretization& d, double density, const std::vector
   return M;
 }
 
+Eigen::VectorXd row_sum_masses(const Discretization& d, double density) {
+  // Every unknown free: the row sum runs over the fixed particles' columns too (a fixed
+  // particle still carries the mass its neighbours share with it).
+  const int dim = d.particles.dim, n = d.particles.size();
+  std::vector<int> all(dim * n);
+  for (int k = 0; k < dim * n; ++k) all[k] = k;
+  const SpMat M = consistent_mass(d, density, all);
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(n);
+  // Component 0's rows: the components share one scalar mass per particle.
+  for (int k = 0; k < M.outerSize(); ++k)
+    for (SpMat::InnerIterator it(M, k); it; ++it)
+      if (it.row() % dim == 0) m[it.row() / dim] += it.value();
+  return m;
+}
+
 SpMat lumped_mass(const Eigen::VectorXd& particle_mass, int dim, const std::vector<int>& free) {
   SpMat M(static_cast<int>(free.size()), static_cast<int>(free.size()));
   std::vector<Eigen::Triplet<double>> t;
@@ -372,8 +393,9 @@ CriticalStep critical_step(const ExplicitDynamics& engine, const Eigen::VectorXd
   CriticalStep out;
   out.unknowns = static_cast<int>(free.size());
   // The mass first: a consistent mass of a collocation method fails before any probing.
-  const SpMat M = o.mass == MassKind::lumped ? lumped_mass(particle_mass, dim, free)
-                                             : consistent_mass(d, density, free);
+  const SpMat M = o.mass == MassKind::lumped    ? lumped_mass(particle_mass, dim, free)
+                  : o.mass == MassKind::row_sum ? lumped_mass(row_sum_masses(d, density), dim, free)
+                                                : consistent_mass(d, density, free);
   const SpMat K = tangent_stiffness(engine, free, o.relative_step, true, &out.probe);
   out.eigen = largest_eigenvalue(K, M, o.eigen);
   out.lambda_max = out.eigen.lambda_max;

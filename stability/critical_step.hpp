@@ -20,10 +20,12 @@
 namespace mfv {
 
 enum class MassKind {
-  lumped,     ///< diagonal: the particle masses of the engine (lumped_masses)
-  consistent  ///< M_IJ = Σ_q w_q ρ N^test_I(x_q) N_J(x_q) per component (Galerkin methods)
+  lumped,      ///< diagonal: the particle masses of the engine (lumped_masses)
+  consistent,  ///< M_IJ = Σ_q w_q ρ N^test_I(x_q) N_J(x_q) per component (Galerkin methods)
+  row_sum      ///< diagonal: the row sums of the consistent mass, m_I = Σ_J M_IJ (row_sum_masses)
 };
-MassKind mass_kind_from(const std::string& name);  ///< "lumped"/"consistent", else InputError
+/// "lumped" / "consistent" / "row-sum", else InputError.
+MassKind mass_kind_from(const std::string& name);
 std::string to_string(MassKind kind);
 
 enum class EigenSolverKind {
@@ -63,6 +65,13 @@ double table_radius(const ShapeTable& t, const Eigen::MatrixXd& points, const Ei
 /// without shape-function values at their points (collocation: sph, rlm).
 Eigen::SparseMatrix<double> consistent_mass(const Discretization& d, double density,
                                             const std::vector<int>& free);
+/// Row-sum lumping of the consistent mass, one mass per particle: m_I = Σ_J M_IJ over every
+/// particle J (fixed ones too) = Σ_q w_q ρ N^test_I(x_q) Σ_J N^trial_J(x_q), i.e. ρ ∫ N_I for
+/// trial functions that form a partition of unity. For the GRK bar this is the lumped form of
+/// 004 III eq 4.0.2's element mass ("the element matrices are simple, included a lumped mass
+/// matrix", §4.0); the particle volumes ρΔV_J (lumped_masses) are the other reading. Throws
+/// InputError where consistent_mass does (collocation methods).
+Eigen::VectorXd row_sum_masses(const Discretization& d, double density);
 /// Lumped (diagonal) mass on `free` from the particle masses (one per particle).
 Eigen::SparseMatrix<double> lumped_mass(const Eigen::VectorXd& particle_mass, int dim,
                                         const std::vector<int>& free);
@@ -105,7 +114,7 @@ struct CriticalStep {
 
 /// The critical step of central differences for the engine's current state. `particle_mass`:
 /// the lumped masses the engine was given (lumped_masses); `density` the ρ of the consistent
-/// mass (in 1D times the cross-section, as the lumped masses).
+/// and the row-sum mass (in 1D times the cross-section, as the lumped masses).
 CriticalStep critical_step(const ExplicitDynamics& engine, const Eigen::VectorXd& particle_mass,
                            double density, const CriticalStepOptions& options = {});
 

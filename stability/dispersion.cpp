@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <Eigen/Eigenvalues>
@@ -229,35 +230,32 @@ DispersionBranch dispersion_branch(const BlochRow& row, double theta, int points
   return b;
 }
 
-StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double>& thetas,
-                                   int points, double modulus, double density, bool tension) {
+StabilityVerdict scan_stability(const std::vector<double>& thetas, int points, bool tension,
+                                const std::function<double(double theta)>& zone_boundary,
+                                const std::function<double(double kn, double theta)>& lowest) {
   if (thetas.empty()) throw InputError("a stability verdict needs at least one direction");
   const double pi = std::numbers::pi;
-  const double unit = kappa_unit(row), scale = omega2_unit(row, modulus, density);
   StabilityVerdict v;
   double min_ratio = 1e300;
   for (std::size_t t = 0; t < thetas.size(); ++t) {
     const double theta = thetas[t];
-    const Eigen::VectorXd dir = direction(row.dim, theta);
-    const double kmax = brillouin_boundary(row.lattice, row.spacing, theta);
-    double prev_k = 0;
+    const double kmax = zone_boundary(theta);
+    double prev = 0;
     bool found_onset = false;
     for (int i = 1; i < points; ++i) {
-      const double k = kmax * i / (points - 1);
-      const double w = lowest(row, k, dir, scale);
-      const double kn = k / unit;
+      const double kn = kmax * i / (points - 1);
+      const double w = lowest(kn, theta);
       if (kn > 0.02) min_ratio = std::min(min_ratio, w / (kn * kn));
       if (w < -kZero && !found_onset) {
         found_onset = true;
         // Bisection on the sign of ω² between the last stable sample and this one.
-        double lo = prev_k, hi = k;
+        double lo = prev, hi = kn;
         for (int it = 0; it < 50; ++it) {
           const double mid = 0.5 * (lo + hi);
-          (lowest(row, mid, dir, scale) < -kZero ? hi : lo) = mid;
+          (lowest(mid, theta) < -kZero ? hi : lo) = mid;
         }
-        const double onset = hi / unit;
-        if (!v.unstable || onset < v.onset) {
-          v.onset = onset;
+        if (!v.unstable || hi < v.onset) {
+          v.onset = hi;
           v.onset_theta = theta * 180 / pi;
         }
         v.unstable = true;
@@ -266,7 +264,7 @@ StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double
         v.spurious_kappa = kn;
         v.spurious_theta = theta * 180 / pi;
       }
-      if (w >= -kZero) prev_k = k;
+      if (w >= -kZero) prev = kn;
       if (t == 0 && i == points - 1) v.cutoff_omega = std::sqrt(std::max(w, 0.0));
     }
   }
@@ -279,6 +277,17 @@ StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double
                           v.text.empty() ? "" : "; ", v.spurious_kappa, v.spurious_theta);
   if (v.text.empty()) v.text = "stable";
   return v;
+}
+
+StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double>& thetas,
+                                   int points, double modulus, double density, bool tension) {
+  const double unit = kappa_unit(row), scale = omega2_unit(row, modulus, density);
+  return scan_stability(
+      thetas, points, tension,
+      [&](double theta) { return brillouin_boundary(row.lattice, row.spacing, theta) / unit; },
+      [&](double kn, double theta) {
+        return lowest(row, kn * unit, direction(row.dim, theta), scale);
+      });
 }
 
 ThresholdCurve stress_threshold(const BlochRow& unstressed, const BlochRow& stressed, double theta,

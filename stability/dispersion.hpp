@@ -11,6 +11,7 @@
 #pragma once
 #include <complex>
 #include <memory>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,13 @@ struct StabilityVerdict {
 /// Scans every direction; `tension` names an instability "tensile" in the text.
 StabilityVerdict stability_verdict(const BlochRow& row, const std::vector<double>& thetas,
                                    int points, double modulus, double density, bool tension);
+/// The scan behind stability_verdict for any lowest branch ω²(κ, θ) in (c π/Δx)², κ in π/Δx
+/// (a lattice patch's, or a closed form's): `points` samples from 0 to `zone_boundary(θ)`
+/// along each θ (radians), the onset refined by bisection, ω² within 1e-7 of zero counted as
+/// zero.
+StabilityVerdict scan_stability(const std::vector<double>& thetas, int points, bool tension,
+                                const std::function<double(double theta)>& zone_boundary,
+                                const std::function<double(double kn, double theta)>& lowest);
 
 /// Stable-domain threshold (000 Figs 5–6): for each κ along θ, the normalized stresses
 /// s at which min ω² of a + s (b − a) crosses zero, searched in [−limit, limit]: the lowest

@@ -125,6 +125,58 @@ Eigen::MatrixXd enriched_mass(const Discretization& d, const BarMaterial& m, Mas
   return M;
 }
 
+Eigen::MatrixXd enriched_mass_mls2_region(const Discretization& d, const BarMaterial& m) {
+  Eigen::MatrixXd M = enriched_mass(d, m, MassScheme::mls2);
+  if (d.enriched_unknowns == 0) return M;
+  const auto* e = dynamic_cast<const EnrichedApproximation*>(d.trial.get());
+  if (!e) throw std::logic_error("MLS2 lumping of enrichment columns needs xefg");
+  const std::vector<Enrichment> enr = e->enrichments(d.particles);
+  const int N = d.particles.size(), dim = d.trial_q.dim;
+  // ψ of each enrichment kind at the points of a table: the enriched column's value over its
+  // node's, from the entry whose node's shape function is largest there (NaN: not acting).
+  const auto psi_at = [&](const ShapeTable& t, int q, EnrichmentKind kind) {
+    double best = 0, psi = NAN;
+    for (int i = t.offsets[q]; i < t.offsets[q + 1]; ++i) {
+      const int col = t.index[i];
+      if (col < N || enr[col - N].kind != kind) continue;
+      for (int j = t.offsets[q]; j < t.offsets[q + 1]; ++j)
+        if (t.index[j] == enr[col - N].node && std::abs(t.value[j]) > best) {
+          best = std::abs(t.value[j]);
+          psi = t.value[i] / t.value[j];
+        }
+    }
+    return best > 1e-12 ? psi : NAN;
+  };
+  const ShapeTable at_nodes = d.trial->evaluate(d.particles, d.particles.x, 0);
+  for (EnrichmentKind kind : {EnrichmentKind::step, EnrichmentKind::branch1,
+                              EnrichmentKind::branch2, EnrichmentKind::branch3,
+                              EnrichmentKind::branch4}) {
+    double area = 0, integral = 0, nodal = 0;
+    int count = 0;
+    for (int q = 0; q < d.trial_q.points(); ++q) {
+      const double p = psi_at(d.trial_q, q, kind);
+      if (std::isnan(p)) continue;
+      area += d.quadrature.weights[q];
+      integral += d.quadrature.weights[q] * p * p;
+    }
+    for (int J = 0; J < N; ++J) {
+      const double p = psi_at(at_nodes, J, kind);
+      if (std::isnan(p)) continue;
+      nodal += p * p;
+      ++count;
+    }
+    if (!(area > 0) || count == 0 || !(nodal > 0)) continue;
+    const double ratio = (integral / area) / (nodal / count);
+    for (int c = 0; c < static_cast<int>(enr.size()); ++c) {
+      if (enr[c].kind != kind) continue;
+      for (int k = 0; k < dim; ++k)
+        M((N + c) * dim + k, (N + c) * dim + k) =
+            M(enr[c].node * dim + k, enr[c].node * dim + k) * ratio;
+    }
+  }
+  return M;
+}
+
 double largest_eigenvalue(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, bool diagonal) {
   const double inf = std::numeric_limits<double>::infinity();
   if (diagonal) {

@@ -31,6 +31,16 @@ Eigen::MatrixXd enriched_stiffness(const Discretization& d, const BarMaterial& m
 /// mls1_per_point: eq 16's ϑ per Gauss point instead of per background cell.
 Eigen::MatrixXd enriched_mass(const Discretization& d, const BarMaterial& m, MassScheme s,
                               bool mls1_per_point = false);
+/// MLS2 with eq 21 read over the region where an enrichment acts (a reading 003 leaves open):
+/// M̂'_I = ∫_Ω ψ²ρ dΩ / Σ_{J=1}^{N} ψ(X_J)² (eq 21), scaled so that the step (ψ² = 1) keeps
+/// eq 22's M̂'_I = M̂_I: an enriched column ψ_K N_I gets its node's row-sum mass times
+///   (mean of ψ_K² over the Gauss points where ψ_K acts) / (mean of ψ_K² over the particles
+///   there),
+/// "where ψ_K acts" being the union of the supports of the nodes it enriches. enriched_mass's
+/// MLS2 instead weights the mean of ψ² by N_I² over node I's own support; the two agree for
+/// the step and differ for the branch functions (√r ...), whose ψ² is small near the tip.
+Eigen::MatrixXd enriched_mass_mls2_region(const Discretization& d, const BarMaterial& m);
+
 /// λ_max of K φ = λ M φ (M diagonal: eigenvalues of M^{-1/2} K M^{-1/2}); +∞ when M is not
 /// positive definite (a lumped mass with a non-positive entry has no stable step).
 double largest_eigenvalue(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M, bool diagonal);

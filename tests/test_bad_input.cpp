@@ -196,7 +196,7 @@ TEST(BadInput, ParamsRefuseDuplicateKeysAndHugeIntegers) {
 
 struct CliCase {
   const char* name;
-  const char* args;
+  std::string args;
   int exit_code;
   const char* message;  ///< must appear in stdout + stderr
 };
@@ -245,6 +245,45 @@ INSTANTIATE_TEST_SUITE_P(
         CliCase{"dt_tiny", "run grk-bar -m fem -n 11 --problem-params dt=1e-300", 2, "steps"},
         CliCase{"dispersion_points", "dispersion -m fem --points 5 --no-report", 0, "verdict"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// Issue 26's smaller ones: each refused before any computation with exit 2, or a failure to
+// write what was asked reported as one (exit 1), never a silent success.
+INSTANTIATE_TEST_SUITE_P(
+    Issue26, Cli,
+    ::testing::Values(
+        CliCase{"empty_report", "study laplace-tanh -m fem -n 21,41 -r ''", 2,
+                "names no directory"},
+        CliCase{"empty_verify_report", "verify suites/default.toml -r ''", 2,
+                "names no directory"},
+        CliCase{"vtk_in_missing_directory",
+                "run laplace-tanh -m fem -n 21 --vtk /nonexistent-mfv/dir/x.vtp", 2,
+                "does not exist"},
+        CliCase{"ctest_output_in_missing_directory",
+                "manifest-ctest suites/default.toml -o /nonexistent-mfv/x.cmake --mfv x", 2,
+                "does not exist"},
+        CliCase{"manifest_is_a_directory", "verify suites --no-report", 2,
+                "a directory, not a regular file"},
+        CliCase{"manifest_is_a_device", "verify /dev/zero --no-report", 2,
+                "a character device, not a regular file"},
+        CliCase{"manifest_name_too_long",
+                "verify " + std::string(5000, 'x') + ".toml --no-report", 2, "too long"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Cli, OutputToAFullDiskIsAFailure) {
+  const std::string err = ::testing::TempDir() + "mfv-full-disk.txt";
+  const std::string cmd = std::string(MFV_EXECUTABLE) + " list > /dev/full 2> " + err;
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::string text;
+  if (FILE* f = std::fopen(err.c_str(), "r")) {
+    std::array<char, 4096> buf{};
+    while (const std::size_t n = std::fread(buf.data(), 1, buf.size(), f)) text.append(buf.data(), n);
+    std::fclose(f);
+  }
+  EXPECT_NE(text.find("cannot write to standard output"), std::string::npos) << text;
+  std::remove(err.c_str());
+}
 
 }  // namespace
 }  // namespace mfv

@@ -489,3 +489,33 @@ TEST(Rubber, PrincipalStretchStabilityMap) {
 
 }  // namespace
 }  // namespace mfv
+
+namespace mfv {
+namespace {
+
+// 000 eq 3.18's w_{,xx} read two ways (closed_forms.hpp, Normalization): frozen (eq 3.16's
+// w_I(x_J − x_I), 0.500 at σ̄ = 1, D_mx = 1.5) and the Shepard function's own second
+// derivative (eq 2.7, 0.471); the three-point arccos form gives the same onsets without a scan.
+TEST(ClosedForm1D, Eq318OnsetInBothReadingsOfItsSecondDerivative) {
+  const auto W = test_catalogue().kernels.create("quartic-spline");
+  namespace cf = closed_form;
+  using N = cf::Normalization;
+  EXPECT_NEAR(cf::onset_wavenumber_eulerian_1d(*W, 1.5, 1.0, N::frozen), 0.5, 1e-9);
+  EXPECT_NEAR(cf::onset_wavenumber_eulerian_1d(*W, 1.5, 1.0, N::shepard), 0.47102, 1e-4);
+  for (double sb : {0.1, 0.16, 1.0, 2.0})
+    for (N n : {N::frozen, N::shepard})
+      EXPECT_NEAR(cf::onset_wavenumber_eulerian_three_point(*W, 1.5, sb, n),
+                  cf::onset_wavenumber_eulerian_1d(*W, 1.5, sb, n), 1e-9)
+          << sb;
+  // The frozen reading is the one omega2_eulerian_nodal_1d always evaluated.
+  for (int i = 1; i <= 20; ++i) {
+    const double k = M_PI * i / 20;
+    EXPECT_DOUBLE_EQ(cf::omega2_eulerian_nodal_1d(*W, 1.5, 1, k, 1, 0.7, 1, N::frozen),
+                     cf::omega2_eulerian_nodal_1d(*W, 1.5, 1, k, 1, 0.7, 1));
+  }
+  EXPECT_THROW(cf::onset_wavenumber_eulerian_three_point(*W, 2.5, 1.0, N::frozen),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mfv

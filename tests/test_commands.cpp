@@ -132,6 +132,62 @@ TEST_F(Commands, AFullOnlyCaseRunsOnlyWithFull) {
   EXPECT_EQ(text.str().find("lt/fem-big"), std::string::npos) << text.str();
 }
 
+/// Issue 26: a case id holding the default bracket's "]==]" still makes a script CMake can
+/// read; a manifest and baseline in the working directory can record the baseline.
+TEST_F(Commands, ManifestCtestBracketsSurviveAnyIdAndARelativeBaselineIsWritten) {
+  const fs::path m = write("odd.toml",
+                           "[[case]]\nid = \"a]==]b\"\nproblem = \"laplace-tanh\"\n"
+                           "method = \"fem\"\nnodes = [21, 41]\n");
+  const fs::path script = dir_ / "tests.cmake";
+  command_manifest_ctest(m.string(), "/bin/mfv", script.string());
+  std::stringstream text;
+  text << std::ifstream(script).rdbuf();
+  EXPECT_NE(text.str().find("[===[a]==]b]===]"), std::string::npos) << text.str();
+
+  write("lt.toml", "[suite]\nname = \"lt\"\nbaseline = \"lt-base.toml\"\n[[case]]\nid = \"a\"\n"
+                   "problem = \"laplace-tanh\"\nmethod = \"fem\"\nnodes = [21, 41]\n");
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_);
+  std::string out;
+  const int rc = verify("lt.toml", out, true);
+  fs::current_path(cwd);
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_TRUE(fs::exists(dir_ / "lt-base.toml")) << out;
+}
+
+/// Issue 26: --update-baseline never records "nan" where the baseline held a number (the case
+/// fails and keeps its entry), and a baseline of another suite is refused.
+TEST_F(Commands, UpdateBaselineKeepsANumberTheRunLostAndRefusesAnotherSuitesBaseline) {
+  std::string out;
+  // The rod pulse measures no H1 error: its baseline records h1 = "nan".
+  const fs::path m = write("rod.toml",
+                           "[suite]\nname = \"t\"\nbaseline = \"baseline.toml\"\n[[case]]\n"
+                           "id = \"rod\"\nproblem = \"rod-pulse\"\nmethod = \"sph\"\n"
+                           "problem_params = { frames = 0, transits = 1, threads = 1 }\n"
+                           "nodes = [25]\n");
+  ASSERT_EQ(verify(m, out, true), 0) << out;
+  Baseline b = load_baseline(dir_ / "baseline.toml");
+  ASSERT_TRUE(std::isnan(b.cases.at("rod").resolutions.front().h1));
+  // Pretend an earlier run had measured it: this run's NaN would then erase a number.
+  b.cases.at("rod").resolutions.front().h1 = 0.5;
+  std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
+  EXPECT_EQ(verify(m, out, true), 1) << out;
+  EXPECT_NE(out.find("rod: h1 at 25 nodes: the baseline holds 0.5, this run measured nothing; "
+                     "its baseline entry is kept"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(load_baseline(dir_ / "baseline.toml").cases.at("rod").resolutions.front().h1, 0.5);
+
+  b.suite = "another";
+  std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
+  try {
+    verify(m, out);
+    FAIL() << "another suite's baseline was used: " << out;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("records suite 'another'"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(Commands, VerifyRejectsAnUnknownMethodBeforeRunning) {
   const fs::path m = write("bad.toml",
                            "[[case]]\nid = \"x\"\nproblem = \"laplace-tanh\"\nmethod = \"efgg\"\n"

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "apps/commands.hpp"
+#include "methods/core/errors.hpp"
 #include "tests/temp_files.hpp"
 
 namespace mfv {
@@ -56,6 +57,43 @@ TEST_F(TransientVerify, ExpectedInstabilityPassesOnlyWhenItHappens) {
   EXPECT_EQ(verify("safety = 0.8", "expect = \"unstable\"\n", out), 1) << out;
   EXPECT_NE(out.find("expected unstable"), std::string::npos) << out;
   EXPECT_EQ(verify("safety = 0.8", "", out), 0) << out;
+}
+
+// Issue 26: a run above the critical step it computed is unstable even when it ends before
+// its energy blows up (the reproducer: SPH at 1.276 × the critical step for one transit, L2
+// error 63.6, energy drift 3.1, used to exit 0 and PASS).
+TEST_F(TransientVerify, AboveTheCriticalStepFailsEvenBeforeItBlowsUp) {
+  RunOptions r;
+  r.problem = "rod-pulse";
+  r.method = "sph";
+  r.problem_params = "frames=0,safety=1.3,transits=1,threads=1";
+  r.nodes = 25;
+  std::ostringstream run;
+  EXPECT_EQ(command_run(catalogue_, r, run), 1) << run.str();
+  EXPECT_NE(run.str().find("unstable at step 0, t = 0: the time step dt = "), std::string::npos)
+      << run.str();
+  EXPECT_NE(run.str().find("× the critical step 2/ω_max"), std::string::npos) << run.str();
+  // Just below the critical step it is a stable run.
+  r.problem_params = "frames=0,safety=0.99,transits=1,threads=1";
+  std::ostringstream below;
+  EXPECT_EQ(command_run(catalogue_, r, below), 0) << below.str();
+}
+
+// A run that would reach none of its checkpoints measured nothing: refused before it runs.
+TEST_F(TransientVerify, ARunEndingBeforeItsFirstCheckpointIsRefused) {
+  RunOptions r;
+  r.problem = "grk-bar";
+  r.method = "fem";
+  r.problem_params = "frames=0,end_time=1e-7";
+  r.nodes = 21;
+  std::ostringstream run;
+  try {
+    command_run(catalogue_, r, run);
+    FAIL() << "a run that measures nothing was run: " << run.str();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing would be measured"), std::string::npos)
+        << e.what();
+  }
 }
 
 // The rod pulse measures a velocity error only: `mfv study` shows its H1 error as "–", not as

@@ -8,6 +8,7 @@
 
 #include "methods/approximations/enriched.hpp"
 #include "methods/core/errors.hpp"
+#include "stability/closed_forms.hpp"
 #include "stability/enriched_mass.hpp"
 #include "test_support.hpp"
 #include "verify/runner.hpp"
@@ -174,21 +175,36 @@ TEST(EnrichedBar, OneDimensionalSweepFindings) {
   EXPECT_FALSE(r.data<FigureData>().tables.empty());
 }
 
-TEST(EnrichedBar, AlphaFitAndConventions) {
+TEST(EnrichedBar, AlphaIsTheLargeDmaxLimitOfTheCellEigenvalue) {
+  // 003 §4.3.3: α of eq 30 is the value λ_max DMAX² settles at as DMAX grows (003: row sum
+  // 12.46, trimmed 7.1, MLS1 trimmed 10); its closed form (stability/closed_forms.hpp) is the
+  // continuum limit of the cell problem: ∫φ'²/φ (row sum), ∫φ² ∫(φ'/φ)² (MLS1 trimmed).
+  const auto W = test_catalogue().kernels.create("cubic-spline");
+  namespace cf = closed_form;
+  EXPECT_NEAR(cf::cell_alpha_limit(*W, cf::CellLumping::row_sum, false), 12.4629, 1e-3);
+  EXPECT_NEAR(cf::cell_alpha_limit(*W, cf::CellLumping::row_sum, true), 7.0504, 1e-3);
+  EXPECT_NEAR(cf::cell_alpha_limit(*W, cf::CellLumping::mls1, true), 9.9658, 1e-3);
+  EXPECT_TRUE(std::isinf(cf::cell_alpha_limit(*W, cf::CellLumping::mls1, false)));
+
   const CaseResult r = run_bar("dmax_count=1,positions=2");
-  // Measured with 4 Gauss points per cell and support radius DMAX·Δx, DMAX 2..8: row sum
-  // 11.46 (003: 12.46), trimmed 6.04 (003: 7.1), MLS1 trimmed 5.98 (003: 10).
-  EXPECT_NEAR(r.headline.at("alpha row-sum"), 11.46, 0.5);
-  EXPECT_NEAR(r.headline.at("alpha row-sum trimmed"), 6.04, 0.3);
-  EXPECT_NEAR(r.headline.at("alpha MLS1 trimmed"), 5.98, 0.3);
-  // Untrimmed MLS1 is erratic: nodes barely reaching a cell get tiny diagonal masses.
-  EXPECT_GT(r.headline.at("alpha MLS1"), r.headline.at("alpha row-sum"));
+  // The engine's cell eigenvalue on DMAX = 8, 16, 32, ... reaches the closed form: the α the
+  // ledger compares is the limit, not a fit over small DMAX.
+  for (const char* k : {"alpha row-sum", "alpha row-sum trimmed", "alpha MLS1 trimmed"}) {
+    const double closed = r.headline.at(std::string(k) + " closed form");
+    EXPECT_NEAR(r.headline.at(k), closed, 2e-3 * closed) << k;
+  }
+  // The fit over support radii 2-8 (kept for scale) lies well below the limit: the values
+  // at small DMAX are short of it (measured 11.46, 6.04, 5.98).
+  EXPECT_LT(r.headline.at("alpha row-sum fit 2-8"), 0.95 * r.headline.at("alpha row-sum"));
+  EXPECT_LT(r.headline.at("alpha MLS1 trimmed fit 2-8"),
+            0.7 * r.headline.at("alpha MLS1 trimmed"));
+  // Untrimmed MLS1 has no limit (nodes barely reaching a cell get tiny diagonal masses).
+  EXPECT_FALSE(r.headline.count("alpha MLS1"));
+  EXPECT_GT(r.headline.at("alpha MLS1 fit 2-8"), r.headline.at("alpha row-sum fit 2-8"));
   // The conventions rescale the same support radius: α(diameter) = 4 α(radius).
   const CaseResult d = run_bar("dmax_count=1,positions=2", "support=diameter");
-  EXPECT_NEAR(d.headline.at("alpha row-sum"), 4 * r.headline.at("alpha row-sum"),
-              1e-6 * r.headline.at("alpha row-sum"));
-  for (const char* k : {"alpha row-sum trimmed", "alpha MLS1 trimmed"})
-    EXPECT_TRUE(std::isfinite(r.headline.at(k))) << k;
+  for (const char* k : {"alpha row-sum", "alpha row-sum fit 2-8", "alpha row-sum closed form"})
+    EXPECT_NEAR(d.headline.at(k), 4 * r.headline.at(k), 1e-6 * r.headline.at(k)) << k;
 }
 
 TEST(EnrichedBar, TwoDimensionalPatchWithTip) {
@@ -201,6 +217,62 @@ TEST(EnrichedBar, TwoDimensionalPatchWithTip) {
     EXPECT_LE(r.headline.at(k), 1.0 + 1e-9) << k;
   }
   EXPECT_GT(r.headline.at("min dt ratio MLS2"), r.headline.at("min dt ratio MLS1"));
+}
+
+StudySummary bar_summary(const CaseResult& r) {
+  StudySummary s;
+  s.method = "xefg";
+  s.label = "xefg";
+  s.headlines.push_back(r.headline);
+  return s;
+}
+
+Verdict bar_finding(const std::string& id, const std::vector<StudySummary>& ss) {
+  const auto problem = test_catalogue().problems.create("enriched-bar", Params{});
+  for (const auto& f : problem->findings())
+    if (f.id == id) return f.check(ss);
+  ADD_FAILURE() << "no finding " << id;
+  return {};
+}
+
+TEST(EnrichedBar, FindingsCompareWhat003SaysPerDimension) {
+  // 003 gives no MLS1 percentage for 1D (§4.3.1: "Δt_discon is of order of Δt_con"): the 1D
+  // published values are MLS2's and α only, and the 1D finding is "of the order of".
+  const auto problem = test_catalogue().problems.create("enriched-bar", Params{});
+  for (const auto& pv : problem->published())
+    if (pv.quantity == "min dt ratio MLS1")
+      EXPECT_EQ(pv.problem_params.number("dim"), 2) << pv.source << " " << pv.value;
+  const CaseResult one = run_bar("dmax_count=1,positions=11");
+  EXPECT_EQ(bar_finding("mls1-of-order", {bar_summary(one)}).status, "reproduced");
+  // Consistent mass: a crack through a node keeps the step (003's worst case) while a crack
+  // that leaves an enriched node a sliver of its support does not (0.022 at s = 0.2).
+  EXPECT_EQ(bar_finding("consistent-nonzero-at-node", {bar_summary(one)}).status, "reproduced");
+  EXPECT_EQ(bar_finding("consistent-nonzero", {bar_summary(one)}).status, "not reproduced");
+  // 2D: "drops to 30 %" is read off the figure with a tip (Fig. 10): the finding takes the worst
+  // of the through and tip sweeps (0.40 here), MLS2's "85 %" likewise (Figs. 13-16).
+  const CaseResult two = run_bar("dim=2,particles=10,positions=3,dmax_count=1");
+  const Verdict drop = bar_finding("mls1-drop", {bar_summary(two)});
+  EXPECT_EQ(drop.status, "reproduced") << drop.ours;
+  EXPECT_NE(drop.ours.find("tip 0.40"), std::string::npos) << drop.ours;
+  const Verdict keeps = bar_finding("mls2-keeps", {bar_summary(two)});
+  EXPECT_EQ(keeps.status, "not reproduced") << keeps.ours;  // 0.655 with the tip
+}
+
+TEST(EnrichedBar, TheTipAndEq21ReadingsMoveOnlyWhatTheyRead) {
+  const CaseResult cells = run_bar("dim=2,positions=2,dmax_count=1,mass=MLS1");
+  const CaseResult patch = run_bar("dim=2,positions=2,dmax_count=1,mass=MLS1,tip_in=patch");
+  // The tip 0.1 below a row of nodes in the middle of the patch (y = 4.9) or near its top
+  // (y = 8.1): the through-crack sweep is the same, the tip sweep is not (0.40 → 0.30).
+  EXPECT_DOUBLE_EQ(cells.headline.at("min dt ratio MLS1"), patch.headline.at("min dt ratio MLS1"));
+  EXPECT_NEAR(cells.headline.at("min dt ratio MLS1 tip"), 0.40, 0.01);
+  EXPECT_NEAR(patch.headline.at("min dt ratio MLS1 tip"), 0.30, 0.01);
+  // MLS2 with eq 21 over the region where ψ acts: the step columns (ψ² = 1) keep their masses,
+  // the branch columns get larger ones and the tip sweep keeps more of the step.
+  const CaseResult support = run_bar("dim=2,positions=2,dmax_count=1,mass=MLS2");
+  const CaseResult region = run_bar("dim=2,positions=2,dmax_count=1,mass=MLS2,mls2=region");
+  EXPECT_NEAR(support.headline.at("min dt ratio MLS2"), region.headline.at("min dt ratio MLS2"), 1e-12);
+  EXPECT_GT(region.headline.at("min dt ratio MLS2 tip"),
+            support.headline.at("min dt ratio MLS2 tip") + 0.05);
 }
 
 TEST(EnrichedBar, BadInputNamesTheFix) {

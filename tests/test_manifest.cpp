@@ -407,6 +407,10 @@ const std::vector<BadManifest> kBadManifests = {
      {"unknown key 'l2_rte'", "did you mean 'l2_rate'?", "h1_rel_finest", "headline"}},
     {"UnknownCaseKey", a_case("a", "nodez_full = [1]\n"), 6,
      {"unknown key 'nodez_full'", "[[case]] 'a'"}},
+    // Issue 26: a CTest label list is ';'-separated, so "a;b" would become two labels.
+    {"LabelWithSemicolon", a_case("a", "labels = [\"fast;slow\"]\n"), 6,
+     {"label 'fast;slow' is empty or holds ';' or white space"}},
+    {"FullOnlyNotBoolean", a_case("a", "full_only = 1\n"), 6, {"'full_only' must be true or false"}},
     {"UnknownCaseKeySuggestsTheClosest", a_case("a", "perturbaton = 0.1\n"), 6,
      {"did you mean 'perturbation'?", "[[case]] 'a'"}},
     {"UnknownKeyWithoutCloseMatchListsValidKeys", "[suite]\ncolour = \"blue\"\n" + a_case("a"), 2,

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "analyses/solver.hpp"
+
 #include "apps/catalogue.hpp"
 #include "methods/core/errors.hpp"
 #include "methods/core/petsc_session.hpp"
@@ -124,6 +126,29 @@ TEST(PetscSolver, RefusesBadParameters) {
   expect_refused("petsc_options=-ksp_type gmres", "petsc_options");
   expect_refused("solver=petsc,petsc_options=ksp_type gmres", "must start with an option name");
   expect_refused("solver=cholesky", "solver");
+}
+
+/// Issue 26: no PETSc option that reads or writes a file or starts a program passes, from a
+/// manifest or the command line (the reproducer truncated any file with -ksp_monitor ascii:);
+/// options that print to stdout do.
+TEST(PetscSolver, RefusesOptionsThatTouchFiles) {
+  for (const char* o : {"-ksp_monitor ascii:/tmp/mfv-victim", "-ksp_view ascii:out.txt",
+                        "-options_file /etc/passwd", "-options_file_yaml x.yaml",
+                        "-log_view", "-log_view ascii:log.txt", "-info /tmp/info",
+                        "-mat_view binary", "-ksp_view_mat binary:A.dat", "-vec_view hdf5:x.h5",
+                        "-ksp_monitor draw", "-start_in_debugger", "-on_error_attach_debugger",
+                        "-history /tmp/h", "-sub_options_file x", "--options_file x",
+                        "-ksp_type cg -ksp_monitor_true_residual ascii:r.txt"}) {
+    EXPECT_NE(petsc_option_touching_files(o), "") << o;
+    expect_refused(std::string("solver=petsc,petsc_options=") + o, "reads or writes a file");
+  }
+  // A value PETSc cannot take is bad input too (exit 2), not a failure of the run.
+  expect_refused("solver=petsc,petsc_options=-ksp_rtol abc", "could not apply the options");
+  expect_refused("solver=petsc,petsc_options=-ksp_type no-such-krylov", "could not apply");
+  for (const char* o : {"-ksp_monitor", "-ksp_view ::ascii_info", "-ksp_type gmres -pc_type jacobi",
+                        "-ksp_rtol 1e-12", "-ksp_monitor ascii", "-ksp_view ascii::ascii_info_detail",
+                        "-pc_gamg_threshold -0.01", "-mg_levels_ksp_max_it 3"})
+    EXPECT_EQ(petsc_option_touching_files(o), "") << o;
 }
 
 TEST(PetscSolver, FailedKrylovSolveIsSingularError) {

@@ -151,13 +151,31 @@ TEST(ReportTarget, SecondWriterIsRefusedUntilTheFirstIsDone) {
 TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   TempDir dir;
   const auto target = dir.path() / "run";
+  // A dead run's staging directory (its marker) and old copy (the previous report's marker).
   test::write_text(dir.path() / ".run.staging-999999" / "index.md", "dead run");
+  test::write_text(dir.path() / ".run.staging-999999" / kStagingMarker, "mfv-staging 1\n");
   test::write_text(dir.path() / ".run.old-999998" / "index.md", "dead run");
+  test::write_text(dir.path() / ".run.old-999998" / kReportMarker, "mfv-report 1\nsuite -\n");
+  fs::create_directories(dir.path() / ".run.old-999996");  // empty: nothing to lose
+  // Issue 26: names that only look like ours stay — no marker, or a live pid (1 is init).
+  test::write_text(dir.path() / ".run.staging-999995" / "thesis.tex", "a user's directory");
+  test::write_text(dir.path() / ".run.staging-1" / kStagingMarker, "mfv-staging 1\n");
+  test::write_text(dir.path() / ".run.staging-1" / "index.md", "a live process's");
   test::write_text(dir.path() / ".run.staging-notes", "a user's file that only looks like ours");
   test::write_text(dir.path() / ".other.staging-999997" / "index.md", "another target's");
   write_report(target, "new");
-  EXPECT_EQ(names_in(dir.path()), (std::vector<std::string>{".other.staging-999997",
-                                                            ".run.staging-notes", "run"}));
+  EXPECT_EQ(names_in(dir.path()),
+            (std::vector<std::string>{".other.staging-999997", ".run.staging-1",
+                                      ".run.staging-999995", ".run.staging-notes", "run"}));
+  EXPECT_EQ(read_file(dir.path() / ".run.staging-999995" / "thesis.tex"), "a user's directory");
+  // The staging marker never reaches the report.
+  EXPECT_FALSE(fs::exists(target / kStagingMarker));
+}
+
+TEST(ReportTarget, AStagingDirectoryIsMarkedFromItsCreation) {
+  TempDir dir;
+  StagedDirectory staged(dir.path() / "run");
+  EXPECT_TRUE(fs::is_regular_file(staged.path() / kStagingMarker));
 }
 
 TEST(ReportTarget, CommitChecksTheTargetAgain) {

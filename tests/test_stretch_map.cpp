@@ -108,6 +108,30 @@ TEST(StretchMap, EulerianKernelIsUnstableWhereThePdeIsStable) {
   for (const auto& f : findings) EXPECT_EQ(f.check(studies).status, "reproduced") << f.claim;
 }
 
+// 001 Fig. 1(b) draws the Eulerian kernel's own stable domain (a region bounded by a solid
+// line) beside the grey one where the PDE is stable and the kernel is not: a map whose Eulerian
+// kernel is stable only at the identity shows the grey region without the domain (partly).
+TEST(StretchMap, AnEulerianKernelStableOnlyAtTheIdentityIsNotFig1b) {
+  const auto problem = test_catalogue().problems.create("stretch-map", Params{});
+  const auto eulerian = [&](double stable, double pde_not, double broken) {
+    StudySummary s;
+    s.method = "kbm-si";
+    s.label = "kbm-si";
+    s.headlines.push_back({{"states", 81},
+                           {"PDE-stable states", 55},
+                           {"Eulerian-stable states", stable},
+                           {"states PDE-stable but Eulerian-unstable", pde_not},
+                           {"states PDE-unstable but Eulerian-stable", 0},
+                           {"states without an Eulerian discretization", broken}});
+    for (const auto& f : problem->findings())
+      if (f.id == "eulerian-unstable-region") return f.check({s}).status;
+    return std::string("no finding");
+  };
+  EXPECT_EQ(eulerian(1, 15, 65), "partly");          // the default grid: only F = I stable
+  EXPECT_EQ(eulerian(8, 17, 0), "reproduced");       // λ ∈ [0.9, 1.1]: 8 of 25 stable
+  EXPECT_EQ(eulerian(25, 0, 0), "not reproduced");   // no grey region
+}
+
 TEST(StretchMap, TheEulerianKernelLosesItsParticlesUnderLargeStretch) {
   // A support of 1.5 Δx fixed in the current configuration holds no neighbour along x once
   // λ1 ≥ 1.5: the state has no discrete model, which is reported, not thrown.

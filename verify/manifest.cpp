@@ -299,7 +299,14 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
     if (!a)
       r.fail(line_of(*n), fmt::format("'labels' must be an array, got {}", type_name(*n)),
              "write labels = [\"fast\"]");
-    for (const auto& e : *a) c.labels.push_back(get_string(r, e, "labels"));
+    for (const auto& e : *a) {
+      c.labels.push_back(get_string(r, e, "labels"));
+      // A CTest label list is ';'-separated: "a;b" would become two labels.
+      const std::string& l = c.labels.back();
+      if (l.empty() || l.find(';') != std::string::npos || has_whitespace(l))
+        r.fail(line_of(e), fmt::format("label '{}' is empty or holds ';' or white space", l),
+               "write one word per label, e.g. labels = [\"fast\", \"2d\"]");
+    }
   }
   if (auto n = t.get("bands")) {
     const auto* b = n->as_table();

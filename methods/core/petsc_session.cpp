@@ -57,6 +57,43 @@ int size() {
   return s;
 }
 
+namespace {
+
+/// Whether this process has passed its first agreement point (checks_done or a failing
+/// finish): the one piece of state the agreement needs, kept with the rest of the session.
+bool& first_point_passed() {
+  static bool passed = false;
+  return passed;
+}
+
+/// The largest code of all ranks and rank 0's (one allreduce and one broadcast).
+Agreement agree(int code) {
+  if (!launched_by_mpirun() || !initialized()) return {code, code};
+  Agreement a;
+  int mine = code;
+  MPI_Allreduce(&mine, &a.code, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  a.rank0_code = code;
+  MPI_Bcast(&a.rank0_code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  return a;
+}
+
+}  // namespace
+
+void checks_done() {
+  if (!launched_by_mpirun() || !initialized() || first_point_passed()) return;
+  first_point_passed() = true;
+  const Agreement a = agree(0);
+  if (a.code != 0) throw OtherRankFailed(a.code);
+}
+
+Agreement finish(int code) {
+  if (!first_point_passed()) {
+    first_point_passed() = true;
+    agree(code);
+  }
+  return agree(code);
+}
+
 void insert_options(const std::string& options) {
   ensure_initialized();
   if (PetscOptionsInsertString(nullptr, options.c_str()) != 0)

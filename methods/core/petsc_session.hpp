@@ -4,6 +4,7 @@
 /// PETSc's state is per process by design (PetscInitialize/PetscFinalize, the options
 /// database); this file is the one place mfv touches it, so no other code keeps global state.
 #pragma once
+#include <exception>
 #include <string>
 
 #include <petscsys.h>
@@ -23,6 +24,30 @@ bool initialized();
 /// initialization: a plain run is one rank).
 int rank();
 int size();
+
+/// What the ranks of an mpirun agreed on: the largest exit code any rank gave, and rank 0's.
+struct Agreement {
+  int code = 0;       ///< every rank exits with it
+  int rank0_code = 0; ///< rank 0's own: a failing rank prints its message only if rank 0 did not fail
+};
+
+/// Every rank's agreement points under mpirun, so that no rank waits for ever in a collective
+/// call while another has left (a report target refused by rank 0 alone used to hang rank 1
+/// in PETSc): each rank passes checks_done() once its own up-front checks have passed, before
+/// any collective work, and finish() with its exit code at the end; a rank that fails before
+/// checks_done() passes both points through finish(). Without MPI both do nothing.
+///
+/// checks_done() throws OtherRankFailed when another rank's checks failed.
+void checks_done();
+/// The agreement at the end (and at checks_done() if this rank never reached it).
+Agreement finish(int code);
+
+/// Thrown by checks_done() on the ranks whose own checks passed when another's failed.
+struct OtherRankFailed : std::exception {
+  int code = 0;
+  explicit OtherRankFailed(int c) : code(c) {}
+  const char* what() const noexcept override { return "another rank failed its checks"; }
+};
 
 /// Adds options to PETSc's database, e.g. "-ksp_type gmres -ksp_rtol 1e-10" (a user's
 /// pass-through). Throws InputError naming the text when PETSc refuses it.

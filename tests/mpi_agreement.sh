@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Issue 26: under mpiexec every rank agrees before anything collective and exits with the same
+# code, within seconds, and one message is printed. Two reproducers:
+#   1. a report target that rank 0 refuses (a directory of the user's): exit 2, the user's file
+#      untouched (rank 1 used to wait in PETSc for ever);
+#   2. a failure at commit, after the collective work: a file of the user's appears in the
+#      target while the run computes; exit 2, the file untouched, no rank left behind.
+# Usage: mpi_agreement.sh <mpiexec> <mfv>
+set -u
+mpiexec=$1
+mfv=$2
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# 1. Refused target.
+mkdir "$work/mine"
+echo "my thesis" > "$work/mine/thesis.txt"
+start=$(date +%s)
+timeout 60 "$mpiexec" -n 2 --oversubscribe "$mfv" study laplace-tanh -m fem -n 5,9 \
+  -p solver=petsc -r "$work/mine" > "$work/out1" 2> "$work/err1"
+rc=$?
+[ $rc -eq 124 ] && fail "refused target: hung (timeout)"
+[ $rc -eq 2 ] || { cat "$work/err1"; fail "refused target: exit $rc, expected 2"; }
+[ "$(cat "$work/mine/thesis.txt")" = "my thesis" ] || fail "refused target: the user's file changed"
+n=$(grep -c "input error" "$work/err1")
+[ "$n" -eq 1 ] || { cat "$work/err1"; fail "refused target: $n error messages, expected one"; }
+echo "refused target: exit 2 in $(( $(date +%s) - start )) s, one message"
+
+# 2. Failure at commit: an earlier mfv report as the target; a file of the user's is put into
+# it while the study runs.
+"$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "setup report"
+( timeout 120 "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
+    -p solver=petsc -r "$work/rep" > "$work/out2" 2> "$work/err2"; echo $? > "$work/rc2" ) &
+for _ in $(seq 1 600); do
+  ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && break
+  sleep 0.05
+done
+echo "added while mfv ran" > "$work/rep/notes.txt"
+wait
+rc=$(cat "$work/rc2")
+[ "$rc" -eq 124 ] && fail "commit failure: hung (timeout)"
+[ "$rc" -eq 2 ] || { cat "$work/err2"; fail "commit failure: exit $rc, expected 2"; }
+[ "$(cat "$work/rep/notes.txt")" = "added while mfv ran" ] || fail "commit failure: the user's file changed"
+ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && fail "commit failure: a staging directory was left"
+n=$(grep -c "input error" "$work/err2")
+[ "$n" -eq 1 ] || { cat "$work/err2"; fail "commit failure: $n error messages, expected one"; }
+echo "commit failure: exit 2, one message, the user's file kept"
+echo PASS
