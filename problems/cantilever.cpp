@@ -99,29 +99,48 @@ std::vector<Finding> cantilever_findings() {
                          fmt::format("efg-ci rate {:.2f}; {}", ci[0]->l2_rate, text)};
                }, "efg-ni-kbm-si-slower"});
   f.push_back({"001 §9.1", "RLM and KBM with nodal integration yield poor results",
-               "rlm and kbm-ni: finest L2 error at least 10× efg-ci's or L2 rate below 1",
+               "rlm and kbm-ni: each with a finest L2 error larger than that of every method "
+               "001 calls good (efg-ci, efg-ni, kbm-si: \"pretty good results\") at the same "
+               "finest resolution",
                [](const std::vector<StudySummary>& all) -> Verdict {
-                 const auto ci = of(all, "efg-ci");
+                 // The methods 001 calls good, with their finest errors.
+                 std::vector<const StudySummary*> good;
+                 for (const char* m : {"efg-ci", "efg-ni", "kbm-si"})
+                   for (const auto* s : of(all, m)) good.push_back(s);
+                 if (good.empty()) return not_run("efg-ci, efg-ni or kbm-si");
                  int ok = 0, n = 0;
                  std::string text;
                  for (const char* m : {"rlm", "kbm-ni"})
                    for (const auto* s : of(all, m)) {
                      ++n;
-                     const bool poor = s->l2_rate < 1 ||
-                                       (!ci.empty() && s->l2_rel_finest > 10 * ci[0]->l2_rel_finest);
+                     bool poor = true;
+                     int compared = 0;
+                     std::string beside;
+                     for (const auto* g : good) {
+                       if (g->finest_nodes != s->finest_nodes) continue;
+                       ++compared;
+                       poor = poor && s->l2_rel_finest > g->l2_rel_finest;
+                       beside += fmt::format("{}{} {:.2e}", beside.empty() ? "" : ", ", g->label,
+                                             g->l2_rel_finest);
+                     }
+                     poor = poor && compared > 0;
                      ok += poor;
-                     text += fmt::format("{}{}", text.empty() ? "" : "; ", describe(*s));
+                     text += fmt::format(
+                         "{}{}: finest L2 {:.2e}, {} ({})", text.empty() ? "" : "; ", s->label,
+                         s->l2_rel_finest,
+                         poor ? "poorer than every good method" : "not poorer than every one",
+                         beside.empty() ? "no good method at its resolution" : beside);
                    }
                  if (n == 0) return not_run("rlm or kbm-ni");
                  return {ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced", text};
                }, "rlm-kbm-ni-poor"});
   f.push_back({"001 §9.1", "SPH does not converge at all (support shrinking with the spacing)",
                "sph: the L2 errors do not converge (not: the finest the smallest with the last "
-               "pairwise and the fitted rate at least 0.5), or the finest L2 error is above 5%",
+               "pairwise and the fitted rate at least 0.5)",
                [](const std::vector<StudySummary>& all) -> Verdict {
                  const auto s = of(all, "sph");
                  if (s.empty()) return not_run("sph");
-                 const bool ok = !s[0]->l2_trend.converges() || s[0]->l2_rel_finest > 0.05;
+                 const bool ok = !s[0]->l2_trend.converges();
                  return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
                }, "sph-no-convergence"});
   f.push_back({"001 §9.1, Fig. 7", "SPH converges when the support is held constant",
@@ -166,7 +185,11 @@ std::vector<Finding> cantilever_findings() {
 
 class Cantilever final : public BoundaryValueProblem {
  public:
-  Cantilever(bool plane_strain, Placement placement) : placement_(placement) {
+  /// How x = 0 is held (001 §9.1 does not say; its Fig. 5 is missing from our copy).
+  enum class Clamp { side, supports, timoshenko };
+
+  Cantilever(bool plane_strain, Placement placement, Clamp clamp)
+      : placement_(placement), clamp_(clamp) {
     material_.E = 3e7;
     material_.nu = 0.3;
     material_.plane_strain = plane_strain;
@@ -235,6 +258,39 @@ class Cantilever final : public BoundaryValueProblem {
       exact_field(X, u, g);
       return u;
     };
+    if (clamp_ == Clamp::supports) bvp.clamp_supports.insert(0);
+    if (clamp_ == Clamp::timoshenko) {
+      // Timoshenko & Goodier's support: x = 0 carries the solution's own traction
+      // t = σ·(−1, 0) = (−σ_xx, −σ_xy), and only the rigid motion is fixed, at the particle
+      // nearest the section's centre (u_x, u_y) and the top one of the section (u_x), to the
+      // exact values: three conditions whatever the support, none beyond the rigid modes.
+      bvp.displacements.clear();
+      bvp.tractions[0] = [this](const Eigen::MatrixXd& X) {
+        Eigen::MatrixXd s = exact_stress(X), t(2, X.cols());
+        t.row(0) = -s.row(0);
+        t.row(1) = -s.row(2);
+        return t;
+      };
+      AssembledSystem a = assemble_elasticity(d, bvp);
+      const ParticleSet& p = d.particles;
+      int centre = -1, top = -1;
+      for (int I = 0; I < p.size(); ++I) {
+        if (!(p.sides[I] & Side::left)) continue;
+        if (centre < 0 || std::abs(p.x(1, I)) < std::abs(p.x(1, centre))) centre = I;
+        if (top < 0 || p.x(1, I) > p.x(1, top)) top = I;
+      }
+      if (centre < 0 || top == centre)
+        throw InputError("cantilever: clamp=timoshenko needs at least two particles on x = 0");
+      Eigen::MatrixXd at(2, 3);
+      at << p.x.col(centre), p.x.col(centre), p.x.col(top);
+      Eigen::MatrixXd u, g;
+      exact_field(at, u, g);
+      a.constraint_points = at;
+      a.constraint_values = Eigen::Vector3d(u(0, 0), u(1, 1), u(0, 2));
+      a.constraint_components = {0, 1, 0};
+      a.constraint_particles = {centre, centre, top};
+      return a;
+    }
     return assemble_elasticity(d, bvp);
   }
 
@@ -310,14 +366,22 @@ class Cantilever final : public BoundaryValueProblem {
         "stagnation, but no nodal or stress-point variant reaches rate 2 at these sizes "
         "(measured 2026-11-23). VCI is a 2013 method: the rows with it show what a consistent "
         "quadrature gives, not what 001 did.",
-        "SPH with a constant support (Fig. 7) does not converge here: with radius 4.5 the L2 "
-        "error grows from 1.3 to 2.3 as the spacing falls from 3 to 0.9. Only the particles on "
-        "x = 0 are fixed, so as Δx shrinks under a fixed kernel the clamped layer becomes a "
-        "vanishing fraction of each support and the clamp softens (the tip deflection grows "
-        "with every refinement). 001 does not give its radius or its clamp; fixing every particle "
-        "within one radius of x = 0 is the likely difference. Whether EFG ci with the same "
-        "constant support converges is judged in the verdict table above from its pairwise "
-        "rates and its finest error, not from the least-squares slope alone.",
+        "Fig. 7's constant support (radius 4.5, 1.5 spacings at the coarsest) and the clamp: "
+        "001 does not say how x = 0 is held (Fig. 5 is missing). Holding only the particles on "
+        "x = 0 under a fixed support tests the set-up: the free particles within the support "
+        "of x = 0 see a clamp that thins as the spacing shrinks (SPH's error grew from 1.3 to "
+        "2.9), and one Lagrange multiplier per boundary particle under a wide, "
+        "non-interpolating MLS support over-constrains the trial space (EFG ci's L2 error fell "
+        "to 4.8e-5 at h = 1.5, rose to 2.1e-3 at h = 1). `clamp=supports` holds every particle "
+        "whose support reaches x = 0 at the exact displacement (SPH's case: its unknowns are "
+        "the particle displacements, so this is exact); `clamp=timoshenko` loads x = 0 with "
+        "the solution's own traction and fixes the rigid motion only (EFG ci's case: the "
+        "problem whose solution the analytic one is, 001 [21]). Under them EFG ci converges "
+        "(L2 1.2e-2, 1.2e-3, 8.4e-5, 3.8e-5, 3.8e-6 from h = 3 to 0.75) and SPH's error "
+        "stays near 50 % (0.54 … 0.48): at a fixed radius its uncorrected sums are cut by the "
+        "free faces y = ±6 over a strip as wide as the support, which refinement does not "
+        "narrow. The verdicts above are judged on each case's own clamp; the ledger lists the "
+        "others.",
         "Own-rule errors use each method's own quadrature, values and gradients (001: 'the "
         "integrals are evaluated numerically by the procedure that is used to evaluate the nodal "
         "forces'); common-rule errors use 4×4 Gauss on a uniform grid and the trial field "
@@ -331,6 +395,7 @@ class Cantilever final : public BoundaryValueProblem {
   LinearElastic material_;
   double Ee_, nue_;
   Placement placement_;
+  Clamp clamp_;
 };
 
 }  // namespace
@@ -342,11 +407,20 @@ void register_cantilever(ProblemRegistry& r) {
         {ParamSpec::choice("plane", "stress", {"stress", "strain"}, "plane stress or plane strain"),
          ParamSpec::choice("placement", "boundary", {"boundary", "inset"},
                            "particles on the boundary (001 Fig. 4b) or inset by half a spacing "
-                           "(Fig. 4a)")},
+                           "(Fig. 4a)"),
+         ParamSpec::choice("clamp", "side", {"side", "supports", "timoshenko"},
+                           "x = 0 (001 does not say how it is held): the exact displacement at "
+                           "the particles on it (side) or at every particle whose support "
+                           "reaches it (supports), or Timoshenko & Goodier's support: the exact "
+                           "traction on it, the rigid motion fixed at its centre and top "
+                           "particles (timoshenko)")},
         [](const Params& p) {
           return std::make_unique<Cantilever>(
               p.text("plane") == "strain",
-              p.text("placement") == "inset" ? Placement::inset : Placement::boundary);
+              p.text("placement") == "inset" ? Placement::inset : Placement::boundary,
+              p.text("clamp") == "supports"     ? Cantilever::Clamp::supports
+              : p.text("clamp") == "timoshenko" ? Cantilever::Clamp::timoshenko
+                                                : Cantilever::Clamp::side);
         });
 }
 

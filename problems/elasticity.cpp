@@ -279,6 +279,40 @@ AssembledSystem assemble_elasticity(const Discretization& d, const ElasticityBVP
         s.constraint_particles.push_back(b.cell[q]);
       }
   }
+  // A clamp that covers the supports: every particle whose support reaches a clamped side (a
+  // non-zero trial function at the side's particle projections or at its Gauss points) is
+  // held at the prescribed displacement at its own position, so that no free particle's
+  // support is cut by the clamp.
+  for (const int side : bvp.clamp_supports) {
+    const auto disp = bvp.displacements.find(side);
+    if (disp == bvp.displacements.end())
+      throw InputError(fmt::format("2D elasticity: side {} clamps the supports but has no "
+                                   "prescribed displacement",
+                                   side));
+    std::vector<bool> held(n, false), reaches(n, false);
+    for (const int I : s.constraint_particles) held[I] = true;
+    for (const IntegrationRule& b :
+         {nodal_boundary_rule(d.domain, d.particles, side), d.boundary_rule(side)}) {
+      const ShapeTable t = d.trial_at(b.points, 0);
+      for (int k = 0; k < t.entries(); ++k)
+        if (t.value[k] != 0) reaches[t.index[k]] = true;
+    }
+    std::vector<int> extra;
+    for (int I = 0; I < n; ++I)
+      if (reaches[I] && !held[I]) extra.push_back(I);
+    const Eigen::Index m = static_cast<Eigen::Index>(extra.size());
+    Eigen::MatrixXd at(2, m);
+    for (Eigen::Index i = 0; i < m; ++i) at.col(i) = d.particles.x.col(extra[i]);
+    const Eigen::MatrixXd g = disp->second(at);
+    for (Eigen::Index i = 0; i < m; ++i)
+      for (int c = 0; c < 2; ++c) {
+        px.push_back(at(0, i));
+        py.push_back(at(1, i));
+        val.push_back(g(c, i));
+        s.constraint_components.push_back(c);
+        s.constraint_particles.push_back(extra[i]);
+      }
+  }
   s.constraint_points.resize(2, static_cast<Eigen::Index>(px.size()));
   for (std::size_t i = 0; i < px.size(); ++i) s.constraint_points.col(i) << px[i], py[i];
   s.constraint_values = Eigen::Map<Eigen::VectorXd>(val.data(), static_cast<Eigen::Index>(val.size()));

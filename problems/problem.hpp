@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -196,6 +197,10 @@ struct ElasticityBVP {
   std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> tractions;
   /// Prescribed displacement u(x) (2 × n) per clamped side.
   std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> displacements;
+  /// Clamped sides whose clamp covers the supports: besides the particles on the side, every
+  /// particle whose support reaches the side is held at the prescribed displacement (at its own
+  /// position). Default: only the particles on the side.
+  std::set<int> clamp_supports;
 };
 /// K = Σ_q w_q B^test(x_q)ᵀ D B^trial(x_q) from the method's gradient tables (any of 001
 /// Table 1's methods), f from the tractions on the method's boundary rule, and the

@@ -54,6 +54,13 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
                                                 "64; deprecated name: nq)"),
                                64),
                         "nq"));
+  if (integration == "gauss-cells")
+    s.push_back(capped(ParamSpec::count("cells", 0, 0,
+                                        "2D: a uniform background grid of this many cells along "
+                                        "x, rows for nearly square cells, each with eq 66's "
+                                        "points for the particles it holds (0: the lattice "
+                                        "cells; at most 10^6)"),
+                       1000000));
   r.add(name,
         fmt::format("element-free Galerkin, MLS linear basis (001 eqs 37-43), {} (001 Table 1 "
                     "row EFG {})",
@@ -63,7 +70,9 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
           GalerkinRecipe g;
           g.trial = parts.approximations.create("mls", forward(p, {{"kernel", "kernel"}}));
           g.integration = parts.integrations.create(
-              integration, integration == "gauss-cells" ? forward(p, {{"quad", "nq"}}) : Params{});
+              integration, integration == "gauss-cells"
+                               ? forward(p, {{"quad", "nq"}, {"cells", "cells"}})
+                               : Params{});
           set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
@@ -71,8 +80,11 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
               "EFG: MLS linear, {} kernel, support {}, {}, bc={}", p.text("kernel"),
               support_text(p),
               integration == "nodal" ? "nodal integration"
-              : p.integer("quad") > 0 ? fmt::format("{0}x{0} Gauss per cell", p.integer("quad"))
-                                     : "Gauss cells with n_Q = sqrt(m)+2",
+              : (p.integer("quad") > 0 ? fmt::format("{0}x{0} Gauss per cell", p.integer("quad"))
+                                       : std::string("Gauss cells with n_Q = sqrt(m)+2")) +
+                    (p.integer("cells") > 0
+                         ? fmt::format(" on a grid of {} cells along x", p.integer("cells"))
+                         : std::string()),
               p.text("bc"));
           return vci_if_asked(p, make_galerkin_method(std::move(g)));
         });
