@@ -80,6 +80,15 @@ class GrkBar final : public TransientProblem {
     courant_ = p.number("courant");
     row_sum_ = p.text("mass") == "row-sum";
     end_time_ = p.number("end_time") > 0 ? p.number("end_time") : 4 * L_ / c();
+    // The bar's strain σ*/E must be representable in F = 1 + ε (the material is finite-strain
+    // SVK): at F0 = 1e-9 it is 3e-17, below the double's resolution of 1, and the run read as
+    // "unstable" (issue 26); at 1e-8 the round-off is 1e-8 of the strain.
+    if (F0_ / (A_ * E_) < kMinStrain)
+      throw InputError(fmt::format("grk-bar: F0 = {:g} lbf gives a strain F0/(A E) = {:.3g}, below "
+                                   "{:g}: the deformation gradient F = 1 + strain cannot resolve it "
+                                   "in double precision; rescale it to F0 >= {:.3g} (the elastic "
+                                   "bar is linear in F0)",
+                                   F0_, F0_ / (A_ * E_), kMinStrain, kMinStrain * A_ * E_));
     if (Ep_ >= E_)
       throw InputError(fmt::format("grk-bar: Ep_ratio = {} must be below 1", p.number("Ep_ratio")));
   }
@@ -343,6 +352,7 @@ class GrkBar final : public TransientProblem {
 
  private:
   Params p_;
+  static constexpr double kMinStrain = 1e-8;
   double L_ = 100, A_ = 1, E_ = 3e7, rho_ = 7.24e-4;
   double F0_ = 5000, sigma_y_ = 30000, Ep_ = 0.75e7, courant_ = 1, end_time_ = 0;
   bool plastic_ = false, row_sum_ = false;

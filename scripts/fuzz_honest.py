@@ -12,6 +12,14 @@ Classes (each case one mfv run, or two MPI ranks):
                   baseline or the ledger must be refused (exit 2) within seconds.
   mpi-targets     under mpiexec -n 2, a report target of the user's must end both ranks with
                   exit 2 within seconds, the user's file untouched (skipped without mpiexec).
+  support-size    a support parameter (dmax, radius, h, j) drawn up to 10^3 times its default on
+                  a static problem must run within the timeout under a 6 GiB address-space limit
+                  or be refused (exit 2) naming the support or the memory; never a signal, a
+                  hang or an out-of-memory crash.
+  load-scale      a linear transient run with its load or velocity scaled by 10^k: for |k| up
+                  to 90 the relative errors must equal the unscaled run's (to 1e-6); beyond 100
+                  the value must be refused (exit 2, "rescale it"); a denormal load must never
+                  read as "unstable".
 Any other outcome (exit 0 where a refusal or failure was due, a hang, a signal, an exit code
 mfv never gives, a sentinel changed) is a failure.
 
@@ -29,20 +37,21 @@ import tempfile
 
 from fuzz_common import arguments, crash, outcomes, run, tally
 
-CLASSES = ["above-critical", "petsc-files", "special-files", "mpi-targets"]
-# Cheap transient runs (problem, nodes, extra problem parameters) and their methods.
-TRANSIENT = [("rod-pulse", 13, "transits=1"), ("rod-pulse", 25, "transits=1"),
-             ("rod-pulse", 37, "transits=2"), ("compressed-plate", 7, "end_strain=0.005"),
-             ("grk-bar", 11, "courant=0")]
-ROD_METHODS = ["sph", "rlm", "kbm-si", "kbm-ni", "efg-ni", "efg-ci"]
-PETSC_BAD = ["-ksp_monitor ascii:{f}", "-ksp_view ascii:{f}", "-ksp_view ascii:{f}::append",
-             "-options_file {f}", "-options_file_yaml {f}", "-log_view ascii:{f}", "-log_view",
-             "-info {f}", "-history {f}", "-mat_view binary:{f}", "-ksp_view_mat binary",
-             "-vec_view hdf5:{f}", "-ksp_monitor draw", "-start_in_debugger",
-             "-on_error_attach_debugger", "-ksp_type cg -ksp_monitor_true_residual ascii:{f}",
-             "-sub_options_file {f}", "--options_file {f}", "-malloc_dump {f}",
-             "-ksp_converged_reason ascii:{f}", "-pc_gamg_threshold 0.01 -log_trace {f}"]
-SENTINEL = "a file of the user's\n"
+CLASSES = ["above-critical", "petsc-files", "special-files", "mpi-targets", "support-size",
+           "load-scale"]
+# Static cases whose support a parameter sets: (problem, method, nodes, parameter, default).
+SUPPORTS = [("cantilever", "efg-ni", 21, "radius", 2.0), ("cantilever", "efg", 9, "dmax", 2.0),
+            ("elastic-patch", "sph-galerkin", 21, "h", 1.5), ("elastic-patch", "rkpm", 21, "dmax", 2.0),
+            ("laplace-tanh", "efg", 41, "dmax", 2.0), ("laplace-tanh", "rkpm", 41, "j", 1.0),
+            ("cantilever", "kbm-si", 9, "dmax", 2.0)]
+# Linear transient runs and the parameter that scales their response: (problem, method, nodes,
+# parameter, its default, extra parameters, the powers of ten drawn, the smallest value the
+# problem accepts). The rod pulse is linear at any scale; the GRK bar and the prestressed rod
+# are finite-strain, so they are scaled down only, to the floor their messages state.
+LOADS = [("rod-pulse", "sph", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100),
+         ("rod-pulse", "efg-ni", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100),
+         ("grk-bar", "fem", 11, "F0", 5000.0, "courant=0", (-12, 0), 0.3),
+         ("prestressed-rod", "sph", 21, "v0", 40.0, "", (-9, 0), 2.0204e-5)]
 
 
 def sentinel(path):
@@ -185,13 +194,70 @@ def mpi_targets(rng, mfv, cwd, timeout):
     return ["mpiexec -n 2"] + argv, p, why
 
 
+def limited_memory():
+    """The child's address space capped at 6 GiB: a dense system past it must be refused by
+    the size check (which reads RLIMIT_AS), not crash."""
+    import resource
+    cap = 6 << 30
+    resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+
+
+def support_size(rng, mfv, cwd, timeout):
+    problem, method, n, key, default = rng.choice(SUPPORTS)
+    value = round(default * 10 ** rng.uniform(0, 3), 3)
+    argv = ["run", problem, "-m", method, "-n", str(n), "-p", f"{key}={value}"]
+    try:
+        p = subprocess.run([mfv] + argv, capture_output=True, text=True, cwd=cwd,
+                           timeout=timeout, errors="replace", preexec_fn=limited_memory,
+                           env=dict(os.environ, OMP_NUM_THREADS="1"))
+    except subprocess.TimeoutExpired:
+        p = None
+    why = crash(p, timeout)
+    if not why and p.returncode == 2 and not re.search(
+            r"support|memory|dense|dmax|radius|\bh\b|\bj\b|spacings|particles", p.stderr):
+        why = f"refused without naming the support or the memory: {p.stderr.strip()[-200:]}"
+    return argv, p, why
+
+
+def scaled_errors(p):
+    """The run's relative errors (the lines "... relative <number>"), in order."""
+    return [float(x) for x in re.findall(r"relative\s+([-+0-9.eE]+)", p.stdout)]
+
+
+def load_scale(rng, mfv, cwd, timeout):
+    problem, method, n, key, default, extra, (k_lo, k_hi), floor = rng.choice(LOADS)
+    k = rng.choice([rng.randint(k_lo, k_hi), rng.choice([-320, -300, -150, -101, 101, 150, 300])])
+    value = default * 10.0 ** k
+    base = f"{extra + ',' if extra else ''}frames=0,threads=1"
+    argv = ["run", problem, "-m", method, "-n", str(n), "--problem-params",
+            f"{base},{key}={value:.6g}"]
+    p = run(mfv, argv, cwd, timeout)
+    why = crash(p, timeout)
+    if why:
+        return argv, p, why
+    if abs(value) > 1e100 or abs(value) < floor:
+        if p.returncode != 2 or "rescale it" not in p.stderr:
+            why = f"{key} = {value:.3g}: exit {p.returncode}, expected 2 with \"rescale it\""
+        return argv, p, why
+    ref = run(mfv, ["run", problem, "-m", method, "-n", str(n), "--problem-params", base], cwd,
+              timeout)
+    if ref is None or ref.returncode != p.returncode:
+        return argv, p, (f"{key} scaled by 1e{k}: exit {p.returncode}, the unscaled run "
+                         f"{None if ref is None else ref.returncode}")
+    a, b = scaled_errors(p), scaled_errors(ref)
+    if len(a) != len(b) or any(abs(x - y) > 1e-5 * max(abs(y), 1e-300) for x, y in zip(a, b)):
+        why = f"{key} scaled by 1e{k}: relative errors {a[:3]} against {b[:3]} unscaled"
+    return argv, p, why
+
+
 def main():
     a = arguments(__doc__, "the fixed corpus of the CTest test: 48 cases, seed 26, 20 s each",
                   48, 26)
     a.mfv = os.path.abspath(a.mfv)
     rng = random.Random(a.seed)
     runners = {"above-critical": above_critical, "petsc-files": petsc_files,
-               "special-files": special_files, "mpi-targets": mpi_targets}
+               "special-files": special_files, "mpi-targets": mpi_targets,
+               "support-size": support_size, "load-scale": load_scale}
     failures, codes, per_class = [], {}, {c: [0, 0] for c in CLASSES}
     with tempfile.TemporaryDirectory(prefix="mfv-fuzz-honest-") as cwd:
         for i in range(a.count):

@@ -112,6 +112,21 @@ TEST(ListParameter, ChecksBoundsElementByElement) {
   EXPECT_TRUE(contains(refusal(given("sigmas", "2"), schema), "<= 1"));
 }
 
+// Issue 26: a nonzero number outside [1e-100, 1e100] in magnitude (a denormal load) is refused
+// with the fix; zero and ordinary values pass, in numbers and lists alike.
+TEST(NumberParameter, RefusesMagnitudesThatLeaveTheRangeOfADouble) {
+  const ParamSchema one{ParamSpec::number("F0", 1, "load")};
+  EXPECT_EQ(refusal(given("F0", 0.0), one), "");
+  EXPECT_EQ(refusal(given("F0", -2.5e7), one), "");
+  for (double bad : {1e-300, -1e-120, 1e150}) {
+    const std::string why = refusal(given("F0", bad), one);
+    EXPECT_TRUE(contains(why, "parameter 'F0'")) << why;
+    EXPECT_TRUE(contains(why, "rescale it")) << why;
+  }
+  const ParamSchema list{ParamSpec::numbers("sigmas", {0.1}, "prestress")};
+  EXPECT_TRUE(contains(refusal(given("sigmas", "0.5:1e-200"), list), "element 2"));
+}
+
 TEST(ListParameter, AccessorsKeepTheKindsApart) {
   const ParamSchema schema{kAngles[0], ParamSpec::number("sigma", 0.1, "prestress")};
   const Params p = Params::parse("angles=0:45,sigma=0.2").resolve(schema, "problem 'test'");

@@ -43,6 +43,24 @@ ParamSpec ParamSpec::numbers(std::string name, std::vector<double> def, std::str
 
 namespace {
 
+/// A nonzero number is kept within [kSmallest, kLargest] in magnitude: the quantities mfv
+/// forms from a parameter (energies are squares of velocities and loads, stiffnesses products
+/// of moduli and lengths) would otherwise leave the range of a double, and a denormal or
+/// overflowing intermediate reads as an error or an instability of the method (issue 26: a load
+/// F0 = 1e-300 was reported "unstable" by round-off). The problems are linear in their loads,
+/// so a user rescales them.
+constexpr double kSmallest = 1e-100, kLargest = 1e100;
+
+template <class Where>
+void check_magnitude(double x, Where where) {
+  if (x != 0 && (std::abs(x) < kSmallest || std::abs(x) > kLargest))
+    throw InputError(fmt::format("{} is {:g}: a nonzero value must lie between {:g} and {:g} in "
+                                 "magnitude (its squares and products would leave the range of a "
+                                 "double); rescale it (a load or velocity scales the linear "
+                                 "response with it)",
+                                 where(), x, kSmallest, kLargest));
+}
+
 std::string trim(std::string_view s) {
   const auto b = s.find_first_not_of(" \t");
   if (b == std::string_view::npos) return {};
@@ -129,6 +147,7 @@ std::vector<double> list_of(const ParamSpec& spec, const ParamValue& v, const st
     if (!std::isfinite(x))
       throw InputError(fmt::format("{} is {}, not a finite number; {}", where(), x,
                                    fmt::format(fmt::runtime(kListFix), spec.name)));
+    check_magnitude(x, where);
     if (spec.integer && std::abs(x - std::round(x)) > 1e-12)
       throw InputError(fmt::format("{} must be an integer, got {}", where(), x));
     if (spec.min && (spec.min_exclusive ? x <= *spec.min : x < *spec.min))
@@ -250,6 +269,7 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
                                      spec.name, owner, kind_of(v), format_value(v)));
       if (!std::isfinite(*d))
         throw InputError(fmt::format("parameter '{}' of {} must be finite", spec.name, owner));
+      check_magnitude(*d, [&] { return fmt::format("parameter '{}' of {}", spec.name, owner); });
       if (spec.integer && std::abs(*d - std::round(*d)) > 1e-12)
         throw InputError(fmt::format("parameter '{}' of {} must be an integer, got {}",
                                      spec.name, owner, *d));
