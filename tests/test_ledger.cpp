@@ -524,6 +524,10 @@ case = "fem-b"
   // A check that did not run gives no evidence; a row that did not run has none at all.
   e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&a, ""}}})[0];
   EXPECT_EQ(e.evidence, kEvidenceSingle);
+  // ... and says it did not run, not that it "differs" (a --full case in a default run).
+  EXPECT_NE(ledger_csv({e}).find("→ not run in this invocation"), std::string::npos);
+  EXPECT_EQ(ledger_csv({e}).find("differs (not run)"), std::string::npos);
+  EXPECT_NE(ledger_markdown({e}).find("| not run (a --full case?) |"), std::string::npos);
   e = evaluate_ledger(l, f.catalogue, f.manifest, {})[0];
   EXPECT_EQ(e.evidence, "–");
   // An independent check outranks a converged one.

@@ -1168,7 +1168,9 @@ std::string readings_markdown(const LedgerEntry& e) {
       for (const auto& c : o.checks)
         md += md_row({o.name(), check_kind(*c.check), c.check->route, case_text(*c.check->row),
                       values_text(*c.check->row, c.values, c.ours_text),
-                      c.agrees ? "yes" : fmt::format("no ({})", c.verdict)});
+                      c.agrees                   ? std::string("yes")
+                      : c.verdict == kNotRun       ? std::string("not run (a --full case?)")
+                                                   : fmt::format("no ({})", c.verdict)});
   }
   return md + "\n";
 }
@@ -1284,7 +1286,9 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
             case_text(*c.check->row),
             c.check->row->kind == LedgerRow::Kind::finding ? c.ours_text
                                                             : join_values(c.values, true),
-            c.agrees ? "agrees" : "differs (" + c.verdict + ")"));
+            c.agrees                ? std::string("agrees")
+            : c.verdict == kNotRun ? std::string("not run in this invocation")
+                                   : "differs (" + c.verdict + ")"));
     }
     const std::vector<std::string> fields = {
         row.id, ledger_paper(row), ledger_section(row), row.source, row.claim,
