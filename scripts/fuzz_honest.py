@@ -52,6 +52,19 @@ LOADS = [("rod-pulse", "sph", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-1
          ("rod-pulse", "efg-ni", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100),
          ("grk-bar", "fem", 11, "F0", 5000.0, "courant=0", (-12, 0), 0.3),
          ("prestressed-rod", "sph", 21, "v0", 40.0, "", (-9, 0), 2.0204e-5)]
+# Cheap transient runs (problem, nodes, extra problem parameters) and their methods.
+TRANSIENT = [("rod-pulse", 13, "transits=1"), ("rod-pulse", 25, "transits=1"),
+             ("rod-pulse", 37, "transits=2"), ("compressed-plate", 7, "end_strain=0.005"),
+             ("grk-bar", 11, "courant=0")]
+ROD_METHODS = ["sph", "rlm", "kbm-si", "kbm-ni", "efg-ni", "efg-ci"]
+PETSC_BAD = ["-ksp_monitor ascii:{f}", "-ksp_view ascii:{f}", "-ksp_view ascii:{f}::append",
+             "-options_file {f}", "-options_file_yaml {f}", "-log_view ascii:{f}", "-log_view",
+             "-info {f}", "-history {f}", "-mat_view binary:{f}", "-ksp_view_mat binary",
+             "-vec_view hdf5:{f}", "-ksp_monitor draw", "-start_in_debugger",
+             "-on_error_attach_debugger", "-ksp_type cg -ksp_monitor_true_residual ascii:{f}",
+             "-sub_options_file {f}", "--options_file {f}", "-malloc_dump {f}",
+             "-ksp_converged_reason ascii:{f}", "-pc_gamg_threshold 0.01 -log_trace {f}"]
+SENTINEL = "a file of the user's\n"
 
 
 def sentinel(path):
