@@ -21,6 +21,7 @@ void register_plate(ProblemRegistry&);
 void register_notched_beam(ProblemRegistry&);
 void register_hydrostatic_column(ProblemRegistry&);
 void register_dam_break(ProblemRegistry&);
+void register_oscillating_plate(ProblemRegistry&);
 
 /// Registers every problem: add one line here for a new one.
 inline void register_all_problems(ProblemRegistry& r) {
@@ -41,6 +42,7 @@ inline void register_all_problems(ProblemRegistry& r) {
   register_notched_beam(r);
   register_hydrostatic_column(r);
   register_dam_break(r);
+  register_oscillating_plate(r);
 }
 
 }  // namespace mfv
