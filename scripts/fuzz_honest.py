@@ -48,10 +48,13 @@ SUPPORTS = [("cantilever", "efg-ni", 21, "radius", 2.0), ("cantilever", "efg", 9
 # parameter, its default, extra parameters, the powers of ten drawn, the smallest value the
 # problem accepts). The rod pulse is linear at any scale; the GRK bar and the prestressed rod
 # are finite-strain, so they are scaled down only, to the floor their messages state.
-LOADS = [("rod-pulse", "sph", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100),
-         ("rod-pulse", "efg-ni", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100),
-         ("grk-bar", "fem", 11, "F0", 5000.0, "courant=0", (-12, 0), 0.3),
-         ("prestressed-rod", "sph", 21, "v0", 40.0, "", (-9, 0), 2.0204e-5)]
+# The last entry is how closely the errors must agree: the finite-strain bars depart from their
+# linear exact solutions by O(strain) (1.7e-4 at the GRK bar's default load moves its error by
+# 0.5 %), so a scaled load changes their error at that order, not at round-off.
+LOADS = [("rod-pulse", "sph", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100, 1e-5),
+         ("rod-pulse", "efg-ni", 13, "velocity", 1.0, "transits=1", (-90, 90), 1e-100, 1e-5),
+         ("grk-bar", "fem", 11, "F0", 5000.0, "courant=0", (-12, 0), 0.3, 1e-2),
+         ("prestressed-rod", "sph", 21, "v0", 40.0, "", (-9, 0), 2.0204e-5, 1e-2)]
 # Cheap transient runs (problem, nodes, extra problem parameters) and their methods.
 TRANSIENT = [("rod-pulse", 13, "transits=1"), ("rod-pulse", 25, "transits=1"),
              ("rod-pulse", 37, "transits=2"), ("compressed-plate", 7, "end_strain=0.005"),
@@ -238,7 +241,7 @@ def scaled_errors(p):
 
 
 def load_scale(rng, mfv, cwd, timeout):
-    problem, method, n, key, default, extra, (k_lo, k_hi), floor = rng.choice(LOADS)
+    problem, method, n, key, default, extra, (k_lo, k_hi), floor, tol = rng.choice(LOADS)
     k = rng.choice([rng.randint(k_lo, k_hi), rng.choice([-320, -300, -150, -101, 101, 150, 300])])
     value = default * 10.0 ** k
     base = f"{extra + ',' if extra else ''}frames=0,threads=1"
@@ -258,7 +261,7 @@ def load_scale(rng, mfv, cwd, timeout):
         return argv, p, (f"{key} scaled by 1e{k}: exit {p.returncode}, the unscaled run "
                          f"{None if ref is None else ref.returncode}")
     a, b = scaled_errors(p), scaled_errors(ref)
-    if len(a) != len(b) or any(abs(x - y) > 1e-5 * max(abs(y), 1e-300) for x, y in zip(a, b)):
+    if len(a) != len(b) or any(abs(x - y) > tol * max(abs(y), 1e-300) for x, y in zip(a, b)):
         why = f"{key} scaled by 1e{k}: relative errors {a[:3]} against {b[:3]} unscaled"
     return argv, p, why
 
