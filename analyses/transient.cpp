@@ -20,6 +20,10 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "kernel W(X - X_J) fixed at t = 0 (001 Table 1) or W(x - x_J(t)) "
                         "recomputed (Table 2)"),
       ParamSpec::count("update_every", 1, 1, "Eulerian kernel: steps between recomputations"),
+      ParamSpec::choice("support", "fixed", {"fixed", "adaptive", "stretch"},
+                        "Eulerian kernel: supports keep their t = 0 radii (fixed) or follow the "
+                        "material, a_I = a_I(0) J_I^(1/d) (adaptive) or a_I(0) times the "
+                        "largest principal stretch (stretch); 001 eq 16's h(x, t)"),
       ParamSpec::number("skin", 0.3,
                         "Eulerian kernel: skin of the neighbour lists over the spacing, in "
                         "[0, 10]; searched afresh only when points and particles have moved "
@@ -78,6 +82,10 @@ DynamicsOptions dynamics_options(const Params& p) {
   o.force = force_form_from(p.text("force"));
   o.threads = p.integer("threads");
   o.order = particle_order_from(p.text("reorder"));
+  o.support = support_rule_from(p.text("support"));
+  if (o.support != SupportRule::fixed && p.text("engine") != "native")
+    throw InputError("support=adaptive|stretch runs on the native engine only (engine=native); the "
+                     "PETSc engine keeps the t = 0 supports");
   return o;
 }
 

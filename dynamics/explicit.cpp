@@ -213,6 +213,16 @@ KernelFrame kernel_frame_from(const std::string& name) {
   throw InputError(fmt::format("unknown kernel frame '{}'; valid: lagrangian, eulerian", name));
 }
 
+SupportRule support_rule_from(const std::string& name) {
+  if (name == "fixed") return SupportRule::fixed;
+  if (name == "adaptive") return SupportRule::adaptive;
+  if (name == "stretch") return SupportRule::stretch;
+  throw InputError(fmt::format("unknown support rule '{}'; valid: fixed (the t = 0 radii), "
+                               "adaptive (radii scaled by J^(1/d)), stretch (by the largest "
+                               "principal stretch); the last two for Eulerian kernels",
+                               name));
+}
+
 ForceForm force_form_from(const std::string& name) {
   if (name == "test") return ForceForm::test_functions;
   if (name == "variational") return ForceForm::variational;
@@ -300,6 +310,18 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
     d_.trial->evaluate_into(d_.particles, X_, 0, lists, opt_.threads, values_at_particles_);
   }
   if (opt_.frame == KernelFrame::eulerian) values_at_points0_ = d_.trial_q;
+  dilation0_ = d_.particles.dilation;
+  if (opt_.support != SupportRule::fixed) {
+    if (opt_.frame != KernelFrame::eulerian)
+      throw InputError("support=adaptive|stretch scales the supports of an Eulerian kernel; the "
+                       "Lagrangian kernel's supports move with the material already (use "
+                       "frame=eulerian, or support=fixed)");
+    if (d_.quadrature.nodal_points < n_ &&
+        static_cast<int>(values_at_points0_.value.size()) != values_at_points0_.entries())
+      throw InputError("support=adaptive|stretch needs F at the particles: this method has neither "
+                       "nodal points nor trial values at its integration points; use "
+                       "support=fixed");
+  }
   if (opt_.order == ParticleOrder::hilbert) {
     if (opt_.frame != KernelFrame::lagrangian)
       throw InputError("the Hilbert particle order (reorder=hilbert) is for the Lagrangian "
@@ -780,6 +802,7 @@ void ExplicitDynamics::retabulate() {
       for (int c = 0; c < dim_; ++c) xq(c, q) += t.value[e] * u_[dim_ * t.index[e] + c];
   }
   for (int q = 0; q < nq_; ++q) d_.quadrature.weights[q] = w0_[q] * jac(q);
+  if (opt_.support != SupportRule::fixed) adapt_supports();
   method_.retabulate(d_, 1, retabulation_);
   counters_.degenerate_points = retabulation_.degenerate_points;
   counters_.degenerate_peak = std::max(counters_.degenerate_peak, counters_.degenerate_points);
@@ -788,6 +811,49 @@ void ExplicitDynamics::retabulate() {
   build_force_tables();
   ++counters_.retabulations;
   counters_.neighbour_rebuilds = retabulation_.rebuilds();
+}
+
+void ExplicitDynamics::adapt_supports() {
+  // The growth of each point's neighbourhood: J^{1/d} (its volume's, SPH's h ∝ (m/ρ)^{1/d})
+  // or the largest principal stretch λ_max = √(largest eigenvalue of FᵀF) (the direction
+  // that loses neighbours first: a nearly incompressible ring stretched 1.5 round its hoop
+  // keeps J ≈ 1). A collapsed or inverted point (J ≤ 0) is read as J = 1e-3.
+  const int dd = dim_ * dim_;
+  auto growth = [&](int q) {
+    const double* F = F_.data() + dd * q;
+    if (dim_ == 1) return std::max(F[0], 1e-3);
+    if (opt_.support == SupportRule::adaptive)
+      return std::sqrt(std::max(F[0] * F[3] - F[1] * F[2], 1e-3));
+    const double c11 = F[0] * F[0] + F[1] * F[1], c22 = F[2] * F[2] + F[3] * F[3],
+                 c12 = F[0] * F[2] + F[1] * F[3];
+    const double half_trace = 0.5 * (c11 + c22);
+    const double disc = std::sqrt(std::max(0.25 * (c11 - c22) * (c11 - c22) + c12 * c12, 0.0));
+    return std::sqrt(std::max(half_trace + disc, 1e-6));
+  };
+  // At each particle: its own point's where the rule integrates at the particles, else the
+  // average over the integration points its t = 0 trial function covers, weighted by
+  // w0_q |N_I(X_q)| (the volume each point gives the particle).
+  const int nodal = d_.quadrature.nodal_points;
+  Eigen::VectorXd g = Eigen::VectorXd::Ones(n_);
+  if (nodal >= n_) {
+    for (int I = 0; I < n_; ++I) g[I] = growth(I);
+  } else {
+    Eigen::VectorXd num = Eigen::VectorXd::Zero(n_), den = Eigen::VectorXd::Zero(n_);
+    const ShapeTable& t = values_at_points0_;
+    for (int q = 0; q < nq_; ++q) {
+      const double gq = growth(q);
+      for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+        const double w = w0_[q] * std::abs(t.value[e]);
+        num[t.index[e]] += w * gq;
+        den[t.index[e]] += w;
+      }
+    }
+    for (int I = 0; I < n_; ++I)
+      if (den[I] > 0) g[I] = num[I] / den[I];
+  }
+  // At most kMaxSupportGrowth times the t = 0 radius: a band point strained to 1 would
+  // otherwise widen its support over the whole plate (a dense table, minutes per step).
+  d_.particles.dilation = dilation0_.cwiseProduct(g.cwiseMin(kMaxSupportGrowth));
 }
 
 double ExplicitDynamics::kinetic_energy() const {

@@ -65,6 +65,19 @@ enum class ParticleOrder {
   hilbert
 };
 
+/// How an Eulerian kernel's support radii evolve (issue 27; 001 eq 16 writes the Eulerian
+/// kernel with h(x, t) and leaves the rule open). `adaptive`: each particle's dilation is its
+/// t = 0 value times J_I^{1/d}, J_I = det F at the particle, as SPH's h_I = η (m_I/ρ_I)^{1/d}
+/// (Monaghan 2005 §2.8). `stretch`: times the largest principal stretch λ_max(F_I), so the
+/// support keeps its neighbours along the direction that stretches most (a nearly
+/// incompressible solid keeps J ≈ 1 while stretching 1.5 one way). Supports are scattered
+/// (particle J's own radius decides whether it reaches a point), as the corrected-kernel tables
+/// already are; the neighbour lists rebuild when the largest radius grows.
+enum class SupportRule { fixed, adaptive, stretch };
+/// The largest factor support=adaptive|stretch applies to a t = 0 radius.
+inline constexpr double kMaxSupportGrowth = 3.0;
+SupportRule support_rule_from(const std::string& name);
+
 struct DynamicsOptions {
   KernelFrame frame = KernelFrame::lagrangian;
   int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
@@ -80,6 +93,9 @@ struct DynamicsOptions {
   ForceForm force = ForceForm::test_functions;
   int threads = 0;  ///< OpenMP threads for the force loops; 0: the OpenMP default
   ParticleOrder order = ParticleOrder::as_given;
+  /// Eulerian: the support radii follow the material (issue 27, 001 eq 16's h(x, t)) or keep
+  /// their t = 0 size in the current configuration (today's runs).
+  SupportRule support = SupportRule::fixed;
 };
 
 /// A prescribed velocity of one unknown (particle, component): v(t), or nothing (free) once
@@ -239,6 +255,8 @@ class ExplicitDynamics {
   template <int D>
   void forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt, bool eulerian,
               bool viscosity, double* F, double* state, Eigen::VectorXd& f) const;
+  /// support=adaptive|stretch: the particles' dilations from F (SupportRule).
+  void adapt_supports();
   void retabulate();
   void external_force(double t, Eigen::VectorXd& f) const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
@@ -261,6 +279,7 @@ class ExplicitDynamics {
   /// Eulerian kernel: the trial values at the integration points at t = 0, N_J(X_q), which
   /// carry a point that is not a particle with the material: x_q = X_q + Σ_J N_J(X_q) u_J.
   ShapeTable values_at_points0_;
+  Eigen::VectorXd dilation0_;  ///< the t = 0 dilations (support=adaptive scales them)
   // Transposed test table with the reference weights folded in: for particle I the entries
   // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
   std::vector<int> tt_offsets_, tt_point_, tt_next_;
