@@ -19,6 +19,14 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
       ParamSpec::choice("frame", "lagrangian", {"lagrangian", "eulerian"},
                         "kernel W(X - X_J) fixed at t = 0 (001 Table 1) or W(x - x_J(t)) "
                         "recomputed (Table 2)"),
+      ParamSpec::choice("volume_average", "off", {"off", "patch"},
+                        "off: each point's own det F; patch: F-bar, the volume change of each "
+                        "particle's patch at every point (dynamics/explicit.hpp VolumeAverage; "
+                        "native engine)"),
+      ParamSpec::choice("centres", "coefficients", {"coefficients", "interpolated"},
+                        "Eulerian kernel: supports centred at X + the particles' unknowns, or "
+                        "at X + the trial field at the particles (their material positions; "
+                        "differs for MLS/RKPM methods; dynamics/explicit.hpp KernelCentres)"),
       ParamSpec::count("update_every", 1, 1, "Eulerian kernel: steps between recomputations"),
       ParamSpec::choice("support", "fixed", {"fixed", "adaptive", "stretch"},
                         "Eulerian kernel: supports keep their t = 0 radii (fixed) or follow the "
@@ -67,6 +75,8 @@ DynamicsOptions dynamics_options(const Params& p) {
   DynamicsOptions o;
   o.frame = kernel_frame_from(p.text("frame"));
   o.update_every = p.integer("update_every");
+  o.volume_average = volume_average_from(p.text("volume_average"));
+  o.kernel_centres = kernel_centres_from(p.text("centres"));
   o.neighbour_skin = p.number("skin");
   if (!(o.neighbour_skin >= 0 && o.neighbour_skin <= 10))
     throw InputError(fmt::format("skin = {} must be in [0, 10] (spacings); 0.3 is the default, "

@@ -239,6 +239,22 @@ ParticleOrder particle_order_from(const std::string& name) {
                                name));
 }
 
+VolumeAverage volume_average_from(const std::string& name) {
+  if (name == "off") return VolumeAverage::off;
+  if (name == "patch") return VolumeAverage::patch;
+  throw InputError(fmt::format("unknown volume average '{}'; valid: off (each point's own "
+                               "det F), patch (F-bar over the particles' patches)",
+                               name));
+}
+
+KernelCentres kernel_centres_from(const std::string& name) {
+  if (name == "coefficients") return KernelCentres::coefficients;
+  if (name == "interpolated") return KernelCentres::interpolated;
+  throw InputError(fmt::format("unknown kernel centres '{}'; valid: coefficients (the particles' "
+                               "unknowns), interpolated (the trial field at the particles)",
+                               name));
+}
+
 TimeIntegrator time_integrator_from(const std::string& name) {
   if (name == "verlet") return TimeIntegrator::verlet;
   if (name == "newmark") return TimeIntegrator::newmark;
@@ -321,6 +337,13 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
       throw InputError("support=adaptive|stretch needs F at the particles: this method has neither "
                        "nodal points nor trial values at its integration points; use "
                        "support=fixed");
+  }
+  if (opt_.volume_average != VolumeAverage::off) {
+    if (opt_.order != ParticleOrder::as_given)
+      throw InputError("volume_average=patch needs the given particle order (reorder=none)");
+    if (volume_table().value.size() != static_cast<std::size_t>(volume_table().entries()))
+      throw InputError("volume_average=patch needs the values of the method's test or trial "
+                       "functions at the points, which this method does not tabulate");
   }
   if (opt_.order == ParticleOrder::hilbert) {
     if (opt_.frame != KernelFrame::lagrangian)
@@ -521,11 +544,76 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
   PointKernel<D> k{t.offsets.data(), t.index.data(), t.grad.data(), eulerian, S0,
                    opt_.viscosity.alpha, opt_.viscosity.beta, spacing_, wave_speed_,
                    model_.density, dt};
+  if (opt_.volume_average == VolumeAverage::patch) {
+    // Two passes: every point's F first (the patches need all of them), then F̄ and the
+    // material.
+    constexpr int DD = D * D;
+    std::vector<double> L(viscosity ? static_cast<std::size_t>(DD) * nq_ : 0);
+    const double* Fc = committed_F_.data();
+#pragma omp parallel for schedule(static) num_threads(opt_.threads) if (nq_ > kParallelMinimum)
+    for (int q = 0; q < nq_; ++q)
+      k.deformation(q, u.data(), du.data(), Fc, F + DD * q, viscosity ? L.data() + DD * q : nullptr);
+    double* Fs = F;  // F̄: committed in the Eulerian frame (see VolumeAverage::patch)
+    average_volumes(Fs);
+    const int ns = model_.material->state_size(dim_);
+    const int chunks = (nq_ + kChunk - 1) / kChunk;
+#pragma omp parallel for schedule(static) num_threads(opt_.threads) if (nq_ > kParallelMinimum)
+    for (int c = 0; c < chunks; ++c) {
+      const int q0 = c * kChunk, q1 = std::min(nq_, q0 + kChunk);
+      model_.material->first_piola(D, q1 - q0, Fs + DD * q0, stress_.data() + DD * q0,
+                                   state ? state + static_cast<long>(ns) * q0 : nullptr, k.dt);
+      for (int q = q0; q < q1; ++q)
+        k.finish(Fs + DD * q, stress_.data() + DD * q, viscosity ? L.data() + DD * q : nullptr);
+    }
+    gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
+                     f.data(), opt_.threads);
+    return;
+  }
   compute_points<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
                     stress_.data(), state, model_.material->state_size(dim_), viscosity,
                     opt_.threads);
   gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
                    f.data(), opt_.threads);
+}
+
+const ShapeTable& ExplicitDynamics::volume_table() const {
+  const ShapeTable& test = d_.test_q;
+  if (test.points() == nq_ && test.value.size() == static_cast<std::size_t>(test.entries()) &&
+      test.entries() > 0)
+    return test;
+  return d_.trial_q;
+}
+
+void ExplicitDynamics::average_volumes(double* F) const {
+  // VolumeAverage::patch (dynamics/explicit.hpp): Ĵ_I the patch's current over reference
+  // volume, J̄_q its interpolation back to the point, F̄ = (J̄/J)^{1/D} F.
+  const ShapeTable& t = volume_table();
+  const int dd = dim_ * dim_;
+  auto det = [&](const double* A) { return dim_ == 1 ? A[0] : A[0] * A[3] - A[1] * A[2]; };
+  std::vector<double> num(n_, 0.0), den(n_, 0.0);
+  for (int q = 0; q < nq_; ++q) {
+    const double J = det(F + dd * q), w = w0_[q];
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+      num[t.index[e]] += w * J * t.value[e];
+      den[t.index[e]] += w * t.value[e];
+    }
+  }
+#pragma omp parallel for schedule(static) num_threads(opt_.threads) if (nq_ > kParallelMinimum)
+  for (int q = 0; q < nq_; ++q) {
+    double s = 0, sw = 0;
+    for (int e = t.offsets[q]; e < t.offsets[q + 1]; ++e) {
+      const int I = t.index[e];
+      if (!(den[I] > 0)) continue;
+      s += t.value[e] * num[I] / den[I];
+      sw += t.value[e];
+    }
+    double* Fq = F + dd * q;
+    const double J = det(Fq);
+    // A point with no patch, or an inverted one, keeps its own F (the watch sees it).
+    if (!(sw > 0) || !(J > 0) || !(s / sw > 0)) continue;
+    const double scale = std::pow(s / sw / J, 1.0 / dim_);
+    for (int e = 0; e < dd; ++e) Fq[e] *= scale;
+  }
 }
 
 namespace {
@@ -772,6 +860,18 @@ void ExplicitDynamics::step(double dt) {
   energy_.kinetic = kinetic_energy();
 }
 
+namespace {
+/// Σ_J N_J(X_I) u_J at every particle I (dim × n).
+Eigen::MatrixXd interpolated_at_particles(const ShapeTable& t, int dim, int n,
+                                         const Eigen::VectorXd& u) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(dim, n);
+  for (int I = 0; I < n; ++I)
+    for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
+      for (int c = 0; c < dim; ++c) out(c, I) += t.value[e] * u[dim * t.index[e] + c];
+  return out;
+}
+}  // namespace
+
 void ExplicitDynamics::retabulate() {
   const int dd = dim_ * dim_;
   auto jac = [&](int q) {
@@ -780,7 +880,12 @@ void ExplicitDynamics::retabulate() {
   };
   // Into the discretization's own storage: no allocation per recomputation.
   Eigen::MatrixXd& x = d_.particles.x;
-  x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
+  // The kernels' centres: the unknowns (coefficients), or the trial field at the particles
+  // (KernelCentres::interpolated; the same for methods whose unknowns are particle values).
+  if (opt_.kernel_centres == KernelCentres::interpolated && !d_.particle_values)
+    x = X_ + interpolated_at_particles(values_at_particles_, dim_, n_, u_);
+  else
+    x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
   Eigen::VectorXd& V = d_.particles.volume;
   V = V0_;
   const int nodal = d_.quadrature.nodal_points;
@@ -942,11 +1047,14 @@ std::string ExplicitDynamics::description() const {
                                        opt_.viscosity.alpha, opt_.viscosity.beta, spacing_)
                          : "no artificial viscosity";
   return fmt::format(
-      "{} kernel{}, {}, {}, {}{}, {} thread{}{}",
+      "{} kernel{}, {}, {}, {}{}{}, {} thread{}{}",
       opt_.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
       opt_.frame == KernelFrame::eulerian
-          ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx)", opt_.update_every,
-                        opt_.neighbour_skin)
+          ? fmt::format(" (tables every {} steps, neighbour skin {:g} dx{})", opt_.update_every,
+                        opt_.neighbour_skin,
+                        opt_.kernel_centres == KernelCentres::interpolated && !d_.particle_values
+                            ? ", supports at the interpolated positions"
+                            : "")
           : "",
       opt_.integrator == TimeIntegrator::verlet
           ? "central differences (velocity Verlet)"
@@ -955,6 +1063,7 @@ std::string ExplicitDynamics::description() const {
       opt_.force == ForceForm::variational
           ? ", variational internal force (transpose of the trial gradient)"
           : "",
+      opt_.volume_average == VolumeAverage::patch ? ", F-bar over the particles' patches" : "",
       opt_.threads, opt_.threads > 1 ? "s" : "",
       renumbered_ ? ", particles and points renumbered along the Hilbert curve" : "");
 }

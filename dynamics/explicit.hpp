@@ -78,8 +78,57 @@ enum class SupportRule { fixed, adaptive, stretch };
 inline constexpr double kMaxSupportGrowth = 3.0;
 SupportRule support_rule_from(const std::string& name);
 
+/// What the stress sees of each point's volume change J = det F.
+enum class VolumeAverage {
+  off,  ///< the point's own F (default: every existing result bit for bit)
+  /// F-bar over the particles' patches (de Souza Neto et al. 1996, "Design of simple low order
+  /// finite elements for large strain analysis of nearly incompressible solids", IJSS 33,
+  /// 3277-3296, with the patch of Bonet & Burton 1998, "A simple average nodal pressure
+  /// tetrahedral element", CNME 14, 437-449): the current over the reference volume of each
+  /// particle's patch,
+  ///   Ĵ_I = Σ_q w0_q J_q S_I(x_q) / Σ_q w0_q S_I(x_q),
+  /// is interpolated back to the points, J̄_q = Σ_I S_I(x_q) Ĵ_I / Σ_I S_I(x_q), and the
+  /// stress is evaluated at F̄_q = (J̄_q / J_q)^{1/D} F_q (S: the test functions' values, or
+  /// the trial functions' when the test table has none). One volume change per particle:
+  /// the particle points and the stress points of an si rule can no longer carry volume
+  /// changes (pressures) of opposite sign that each rule alone integrates to no force (the
+  /// stress points' pressure mode of a fluid, which has no shear stiffness to resist it).
+  /// The Eulerian kernel commits F̄ (its F is integrated from increments, so the average
+  /// also removes what the mode had accumulated); the Lagrangian one recomputes F from u.
+  /// J ≡ 1 is kept exactly, so a state whose stratification is in the reference density
+  /// (the hydrostatic column) starts unchanged. Native engine, as-given order only.
+  /// Measured on the hydrostatic column (kbm-si, 20 × 40, 20 crossings; issue 27): without it
+  /// the time-averaged pressure at the particle points is 1.5-2.8 × ρ0 g (H − y) and at the
+  /// stress points −1.3 to 0.5 × (rows near the floor; the pair's mean is near exact); with
+  /// it the split is gone and the time-averaged error falls 1.35 → 0.18 (Lagrangian kernel,
+  /// bottom row 2.75 → 1.01 of exact) and 4.56 → 0.72 (Eulerian). Not yet a default: one
+  /// volume change per particle leaves particle-scale compaction free (in the Eulerian
+  /// column the two bottom rows close up by 4 of their 5 mm) and the kinetic energy still
+  /// grows (a second instability of KBM on the fluid, issue 27's report). Methods whose
+  /// unknowns are particle values on a nodal rule (sph, rlm) tabulate the values as the
+  /// identity, so there it changes nothing (measured bit for bit); efg-ni's Eulerian column:
+  /// 0.36 → 0.19.
+  patch
+};
+
+/// Where the Eulerian kernel centres the particles' supports when it recomputes its tables.
+enum class KernelCentres {
+  /// X_I + u_I, u_I the particle's unknowns (default: every existing result bit for bit).
+  coefficients,
+  /// X_I + Σ_J N_J(X_I) u_J, the trial field at the particle: the particle's material
+  /// position, where the walls, gravity's work, the frames and particle_positions() already
+  /// see it and where the stress points (X_q + u^h(X_q)) are moved. Differs from
+  /// `coefficients` only for methods whose unknowns are not particle values (MLS, RKPM: kbm,
+  /// efg, ...). Measured on the hydrostatic column (kbm-si, Eulerian, 20 × 40, 20 crossings):
+  /// end kinetic energy 0.0136 → 0.0022 M g H, time-averaged pressure error 4.56 → 1.93: a
+  /// coefficient pattern the trial field hardly sees moved the supports and so the forces.
+  interpolated
+};
+
 struct DynamicsOptions {
   KernelFrame frame = KernelFrame::lagrangian;
+  KernelCentres kernel_centres = KernelCentres::coefficients;
+  VolumeAverage volume_average = VolumeAverage::off;
   int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
   /// Eulerian: skin of the neighbour (Verlet) lists over the particle spacing; the lists are
   /// searched afresh only when the largest point move plus the largest particle move since
@@ -252,6 +301,10 @@ class ExplicitDynamics {
   void internal_force(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt,
                       bool commit, Eigen::VectorXd& f) const;
   /// The two force loops of internal_force in D dimensions.
+  /// The table whose values weigh the patches (VolumeAverage::patch).
+  const ShapeTable& volume_table() const;
+  /// F → F̄ at every point (VolumeAverage::patch).
+  void average_volumes(double* F) const;
   template <int D>
   void forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt, bool eulerian,
               bool viscosity, double* F, double* state, Eigen::VectorXd& f) const;
@@ -308,6 +361,8 @@ KernelFrame kernel_frame_from(const std::string& name);
 TimeIntegrator time_integrator_from(const std::string& name);
 /// Parses "none"/"hilbert" (ParticleOrder), throwing InputError with the valid names otherwise.
 ParticleOrder particle_order_from(const std::string& name);
+VolumeAverage volume_average_from(const std::string& name);
+KernelCentres kernel_centres_from(const std::string& name);
 /// Parses "test"/"variational" (ForceForm), throwing InputError with the valid names otherwise.
 ForceForm force_form_from(const std::string& name);
 

@@ -303,6 +303,8 @@ PetscDynamics::PetscDynamics(const Method& method, Discretization d, DynamicsMod
   if (options.frame == KernelFrame::eulerian)
     refuse("frame=eulerian", "its tables are recomputed at the moving particles; the PETSc "
                              "engine runs the total-Lagrangian step");
+  if (options.volume_average != VolumeAverage::off)
+    refuse("volume_average=patch", "it needs every point's F before any stress");
   if (options.order != ParticleOrder::as_given)
     refuse("reorder=hilbert", "the ranks own contiguous blocks of the given numbering");
   if (!model.follower_pressures.empty())
