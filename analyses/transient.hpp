@@ -39,6 +39,8 @@ inline constexpr double kEnergyBound = 1e4;
 /// 0.17 (the prestressed rod at 0.8 of its critical step), the blown-up ones above 0.86; a
 /// drift of one half means half the run's energy is unaccounted for.
 inline constexpr double kDriftBound = 0.5;
+/// The fewest steps a run must take before its drift is judged against `drift_bound`.
+inline constexpr long kMinDriftSteps = 20;
 
 /// Runs `sim` to def.end_time with a step that lands on every checkpoint: the largest step
 /// not above `dt_target` that divides the first checkpoint (or the end time) into whole
