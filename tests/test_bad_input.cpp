@@ -91,7 +91,8 @@ INSTANTIATE_TEST_SUITE_P(
         // 1e9 particles on a line would take terabytes: refused with the estimate.
         RunCase{"line_memory", run("laplace-tanh", "fem", 1000000000), {"GB", "available"}},
         // A time step so small that the step count overflows used to become one huge step.
-        RunCase{"dt_tiny", run("prestressed-rod", "fem", 11, "", "dt=1e-300"), {"dt", "steps"}},
+        // (1e-90: values below 1e-100 in magnitude are refused earlier, by the parameter check.)
+        RunCase{"dt_tiny", run("prestressed-rod", "fem", 11, "", "dt=1e-90"), {"dt", "steps"}},
         // Found by scripts/fuzz_cases.py: a step past L/c put grk-bar's checkpoints so far
         // out that the exact solution's reflection sum never ended.
         RunCase{"grk_bar_dt_huge", run("grk-bar", "fem", 11, "", "dt=1e9"), {"dt", "L/c"}},
@@ -99,12 +100,12 @@ INSTANTIATE_TEST_SUITE_P(
         RunCase{"wavelet_bands_huge", run("laplace-tanh", "wavelet", 21, "bands=1e9"),
                 {"bands", "16"}},
         // Found by scripts/fuzz_cases.py: a support of 1e300 overflowed the patch width.
-        RunCase{"dispersion_support_huge", run("dispersion", "sph", 5, "radius=1e300"),
+        RunCase{"dispersion_support_huge", run("dispersion", "sph", 5, "radius=1e90"),
                 {"supports reach", "smaller support"}},
         RunCase{"enriched_bar_positions_huge",
                 run("enriched-bar", "xefg", 5, "", "positions=1000000000"), {"positions"}},
         // Found by scripts/fuzz_cases.py: a window 2^j that underflows to zero.
-        RunCase{"rkpm_window_underflow", run("laplace-tanh", "rkpm", 21, "j=-1e300"), {"2^j"}},
+        RunCase{"rkpm_window_underflow", run("laplace-tanh", "rkpm", 21, "j=-1e90"), {"2^j"}},
         RunCase{"dt_negative", run("prestressed-rod", "fem", 11, "", "dt=-1"), {"dt"}},
         RunCase{"perturb_nan", run("laplace-tanh", "fem", 21, "", "", std::nan("")),
                 {"--perturb"}},
@@ -242,7 +243,9 @@ INSTANTIATE_TEST_SUITE_P(
         CliCase{"duplicate_resolution", "study laplace-tanh -m fem -n 21,41,21", 2, "twice"},
         CliCase{"advection_sph", "run advection-diffusion -m sph -n 31 --problem-params a=1", 2,
                 "second derivatives"},
-        CliCase{"dt_tiny", "run grk-bar -m fem -n 11 --problem-params dt=1e-300", 2, "steps"},
+        CliCase{"dt_tiny", "run grk-bar -m fem -n 11 --problem-params dt=1e-90", 2, "steps"},
+        CliCase{"dt_denormal", "run grk-bar -m fem -n 11 --problem-params dt=1e-300", 2,
+                "rescale it"},
         CliCase{"dispersion_points", "dispersion -m fem --points 5 --no-report", 0, "verdict"}),
     [](const auto& info) { return std::string(info.param.name); });
 
