@@ -131,12 +131,15 @@ class Dispersion final : public FigureAnalysis {
     a.setup = fmt::format(
         "{} lattice, Δx = 1, patch of {} particles (half width {}), neighbours within {:.2f} Δx, "
         "{} kernel, St Venant-Kirchhoff E = 1{}, ρ = 1, prestress σ̄ = {:g}{} (σ/{}), {} mass, "
-        "{} force evaluations (central differences, step 1e-6 Δx)",
+        "{} force evaluations (central differences, step 1e-6 Δx; {})",
         to_string(p.lattice), row.patch_particles, row.half_width, row.influence_radius,
         p.frame == KernelFrame::lagrangian ? "Lagrangian" : "Eulerian",
         p.dim() == 2 ? fmt::format(" ν = {:g} plane strain", p.nu) : "", p.sigma,
         p.dim() == 2 ? (p.biaxial ? " biaxial" : " uniaxial (xx)") : "", p.dim() == 1 ? "E" : "μ",
-        p.consistent_mass ? "consistent" : "lumped", row.force_evaluations);
+        p.consistent_mass ? "consistent" : "lumped", row.force_evaluations,
+        row.translated ? "K_0J from the centre's perturbation by translation invariance, checked "
+                         "directly at two neighbours"
+                       : "K_0J from each neighbour's perturbation");
     a.verdicts.push_back(v.text);
     a.figures.push_back({"dispersion",
                          fmt::format("Dispersion, {} kernel, σ̄ = {:g}",

@@ -56,7 +56,7 @@ class StretchMap final : public FigureAnalysis {
         2, std::vector<std::vector<int>>(p.grid, std::vector<int>(p.grid, -1)));
     double setup_time = 0;
     BlochRow sample;
-    int evaluations = 0;
+    int evaluations = 0, rows = 0, translated = 0;
     // The square lattice (and its cell-centre stress points) is symmetric under x ↔ y and the
     // material is isotropic, so (λ2, λ1) has the verdicts of (λ1, λ2): half the rows suffice.
     // The hexagonal lattice has no such symmetry.
@@ -95,6 +95,8 @@ class StretchMap final : public FigureAnalysis {
           }
           setup_time += cpu_seconds() - a;
           evaluations += row.force_evaluations;
+          rows += 1;
+          translated += row.translated ? 1 : 0;
           if (sample.offset.empty()) sample = row;
           const StabilityVerdict v = stability_verdict(row, thetas, p.points, p.mu0, p.density, false);
           disc[f][i][j] = v.unstable ? 0 : 1;
@@ -118,13 +120,14 @@ class StretchMap final : public FigureAnalysis {
         "is the material's at F0, no separate prestress); ρ = {:g}; frames: {}; discrete "
         "stability: ω² ≥ 0 at {} wave numbers from 0 to the zone boundary along θ = {} (a "
         "spurious zero counts as stable); PDE: strong ellipticity over 720 directions; {} force "
-        "evaluations",
+        "evaluations ({} of {} rows by translation: K_0J from the centre's perturbation, checked "
+        "directly at two neighbours)",
         to_string(p.lattice), sample.patch_particles, sample.half_width, sample.influence_radius,
         material->description(2), p.grid, p.grid, p.lambda_min, p.lambda_max, p.density,
         p.lagrangian && p.eulerian ? "Lagrangian and Eulerian kernels"
         : p.lagrangian            ? "Lagrangian kernel"
                                  : "Eulerian kernel",
-        p.points, angles, evaluations);
+        p.points, angles, evaluations, translated, rows);
 
     // Table codes: 1 stable, 0 unstable, -1 no discretization, NaN frame not run.
     auto code = [](int d) { return d == -1 ? NAN : d == kBreakdown ? -1.0 : double(d); };

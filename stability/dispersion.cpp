@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/Eigenvalues>
@@ -111,7 +112,16 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
     throw InputError(fmt::format("half_width {} is smaller than the {} spacings the method's "
                                  "supports reach; leave it 0 (automatic) or use {} or more",
                                  s.half_width, needed, needed));
-  const int hw = s.half_width > 0 ? round_half_width(s.lattice, s.half_width) : needed;
+  // The row by translation differentiates the forces at every P within reach of the centre,
+  // so each of those needs the interior the centre needs: one reach more.
+  const double wanted_translated = (2 * reach + r_trial) / dx + 2;
+  const int needed_translated = wanted_translated <= kMaxHalfWidth
+                                    ? round_half_width(s.lattice, wanted_translated)
+                                    : std::numeric_limits<int>::max();
+  const int hw = s.half_width > 0 ? round_half_width(s.lattice, s.half_width)
+                 : s.by_translation && needed_translated <= kMaxHalfWidth ? needed_translated
+                                                                          : needed;
+  const bool translate = s.by_translation && hw >= needed_translated;
   const LatticePatch patch = lattice_patch(s.lattice, dx, hw);
   Discretization d = discretize_patch(method, patch);
   BlochRow row;
@@ -153,10 +163,11 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
     for (int J = 0; J < n; ++J) u0.segment(dim * J, dim) = H * X.col(J);
     engine.displace(u0);
   }
-  // 4. K_0J by central differences of the engine's force at the centre.
+  // 4. K_0J by central differences of the engine's force.
   const double eps = s.step * dx;
   Eigen::VectorXd du = Eigen::VectorXd::Zero(dim * n);
-  for (int J : neighbours) {
+  // ∂f_at/∂u_J, dim × dim: perturb J, read the force at `at`.
+  const auto direct_block = [&](int J, int at) {
     Eigen::MatrixXd K(dim, dim);
     for (int k = 0; k < dim; ++k) {
       du[dim * J + k] = eps;
@@ -164,12 +175,60 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
       du[dim * J + k] = -eps;
       const Eigen::VectorXd fm = engine.trial_force(du);
       du[dim * J + k] = 0;
-      K.col(k) = (fp.segment(dim * c, dim) - fm.segment(dim * c, dim)) / (2 * eps);
+      K.col(k) = (fp.segment(dim * at, dim) - fm.segment(dim * at, dim)) / (2 * eps);
       row.force_evaluations += 2;
     }
-    row.offset.push_back(X.col(J) - X.col(c));
-    row.stiffness.push_back(K);
+    return K;
+  };
+  for (int J : neighbours) row.offset.push_back(X.col(J) - X.col(c));
+  if (translate) {
+    // K_0J = K_{P,0}, X_P = X_0 − (X_J − X_0): the lattice and the uniform state are the same
+    // seen from every particle, so the column of the centre's perturbation holds the row.
+    Eigen::MatrixXd dforce(dim * n, dim);
+    for (int k = 0; k < dim; ++k) {
+      du[dim * c + k] = eps;
+      const Eigen::VectorXd fp = engine.trial_force(du);
+      du[dim * c + k] = -eps;
+      const Eigen::VectorXd fm = engine.trial_force(du);
+      du[dim * c + k] = 0;
+      dforce.col(k) = (fp - fm) / (2 * eps);
+      row.force_evaluations += 2;
+    }
+    std::vector<int> mirror;
+    for (int J : neighbours) {
+      const Eigen::VectorXd want = 2 * X.col(c) - X.col(J);
+      int P = -1;
+      for (int I = 0; I < n && P < 0; ++I)
+        if ((X.col(I) - want).norm() <= 1e-9 * dx) P = I;
+      if (P < 0) throw std::logic_error("bloch_row: a lattice patch that is not centrally symmetric");
+      mirror.push_back(P);
+      row.stiffness.push_back(dforce.middleRows(dim * P, dim));
+    }
+    // The check: direct differences at the farthest neighbour and at the nearest other one
+    // (a discretization whose integration cells or supports are not the same from every
+    // particle breaks the invariance there first).
+    double largest = 0;
+    for (const Eigen::MatrixXd& K : row.stiffness) largest = std::max(largest, K.cwiseAbs().maxCoeff());
+    std::size_t far = 0, near = 0;
+    for (std::size_t i = 0; i < neighbours.size(); ++i) {
+      const double r = row.offset[i].norm();
+      if (r > row.offset[far].norm()) far = i;
+      if (neighbours[i] != c && (neighbours[near] == c || r < row.offset[near].norm())) near = i;
+    }
+    bool invariant = true;
+    for (std::size_t i : {far, near}) {
+      if (neighbours[i] == c) continue;
+      const Eigen::MatrixXd K = direct_block(neighbours[i], c);
+      if (!((K - row.stiffness[i]).cwiseAbs().maxCoeff() <= 1e-6 * largest)) invariant = false;
+    }
+    if (invariant) {
+      row.translated = true;
+    } else {
+      row.stiffness.clear();
+    }
   }
+  if (!row.translated)
+    for (int J : neighbours) row.stiffness.push_back(direct_block(J, c));
   row.mass = std::move(mass_row);
   return row;
 }

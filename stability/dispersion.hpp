@@ -38,6 +38,12 @@ struct DispersionSetup {
   bool consistent_mass = false;  ///< Σ_q w_q ρ N_0 N_J (Galerkin methods) instead of ρ V_0
   int half_width = 0;            ///< patch half width in spacings; 0: from the supports
   double step = 1e-6;            ///< finite-difference step over the spacing
+  /// K_0J from the centre's perturbation alone, by the lattice's translation invariance
+  /// (K_0J = K_{P,0} with X_P = X_0 − (X_J − X_0)): 2·dim force evaluations instead of
+  /// 2·dim per neighbour, on a patch wide enough that every such P sees only interior
+  /// particles, and checked against direct differences at two neighbours (a discretization
+  /// that is not translation invariant falls back to the direct row). false: always direct.
+  bool by_translation = true;
 };
 
 /// The centre particle's row of the linearized operator: blocks K_0J and offsets X_J − X_0.
@@ -50,6 +56,7 @@ struct BlochRow {
   double spacing = 1;
   LatticeKind lattice = LatticeKind::line;
   int patch_particles = 0, half_width = 0, force_evaluations = 0;
+  bool translated = false;      ///< K_0J came from the centre's perturbation (by_translation)
   double influence_radius = 0;  ///< neighbours taken, in spacings
   std::string description;      ///< the method's composition on the patch
 
