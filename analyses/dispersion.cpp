@@ -191,17 +191,22 @@ class Dispersion final : public FigureAnalysis {
       a.tables.push_back(std::move(mt));
     }
     eq318_headlines(c, p, a, r);
+    verdict_headlines(v, r);
+    r.cpu.assembly = t1 - t0;
+    r.cpu.solve = cpu_seconds() - t1;
+  }
+
+ private:
+  /// The verdict's headlines, the same for the engine's route and the closed forms'.
+  static void verdict_headlines(const StabilityVerdict& v, CaseResult& r) {
     r.headline[kUnstable] = v.unstable ? 1 : 0;
     r.headline[kSpurious] = v.spurious ? 1 : 0;
     r.headline[kMinRatio] = v.min_ratio;
     r.headline[kCutoff] = v.cutoff_omega;
     if (v.unstable) r.headline[kOnset] = v.onset;
     if (v.spurious) r.headline[kSpuriousKappa] = v.spurious_kappa;
-    r.cpu.assembly = t1 - t0;
-    r.cpu.solve = cpu_seconds() - t1;
   }
 
- private:
   /// 000 eq 3.18, what its Fig. 3 plots, beside the method's own linearization: only for the
   /// method it describes (corrected derivatives, nodal integration, h = D_mx Δx) on the line.
   static void eq318_headlines(const AnalysisContext& c, const DispersionDefinition& p,
@@ -280,12 +285,7 @@ class Dispersion final : public FigureAnalysis {
       }
     }
     eq318_headlines(c, p, a, r);
-    r.headline[kUnstable] = v.unstable ? 1 : 0;
-    r.headline[kSpurious] = v.spurious ? 1 : 0;
-    r.headline[kMinRatio] = v.min_ratio;
-    r.headline[kCutoff] = v.cutoff_omega;
-    if (v.unstable) r.headline[kOnset] = v.onset;
-    if (v.spurious) r.headline[kSpuriousKappa] = v.spurious_kappa;
+    verdict_headlines(v, r);
     r.cpu.solve = cpu_seconds() - t0;
   }
 };

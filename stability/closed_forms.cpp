@@ -119,38 +119,13 @@ double omega2_lagrangian_stress_points_1d(const Kernel& W, double dmx, double dx
   return C_bar / (2 * rho0) * (m.a * tm * tm + sp.a * ts * ts);
 }
 
-double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
-                                    double c_sign) {
-  const double C = c_sign >= 0 ? 1.0 : -1.0;
-  const double sigma = sigma_bar * C;
-  auto f = [&](double x) { return omega2_eulerian_nodal_1d(W, dmx, 1.0, x, C, sigma, 1.0); };
-  const int n = 4000;
-  double prev = 0;
-  for (int i = 1; i <= n; ++i) {
-    const double x = M_PI * i / n;
-    if (f(x) < 0) {
-      double lo = prev, hi = x;  // f(lo) >= 0 (or lo = 0), f(hi) < 0
-      while (hi - lo > 1e-12) {
-        const double mid = 0.5 * (lo + hi);
-        (f(mid) < 0 ? hi : lo) = mid;
-      }
-      return hi / M_PI;
-    }
-    prev = x;
-  }
-  return kNaN;
-}
+namespace {
 
-double omega2_eulerian_nodal_1d(const Kernel& W, double dmx, double dx, double kappa,
-                                double C_sigmaT, double sigma, double rho, Normalization n) {
-  const Sums1D s = sums_1d(W, dmx, dx, 0.0);
-  const double t = sine_sum(s, kappa), q = cosine_sum(s, kappa, n);
-  return s.a * (C_sigmaT + sigma) / rho * t * t - sigma / rho * (q - s.a * t * t);
-}
-
-double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
-                                    Normalization n) {
-  auto f = [&](double x) { return omega2_eulerian_nodal_1d(W, dmx, 1.0, x, 1.0, sigma_bar, 1.0, n); };
+/// The first κΔx in (0, π] where ω²(κ) turns negative, over π: a scan of 4000 steps, then
+/// bisection to 1e-12 between the last non-negative and the first negative sample; NaN when
+/// ω² stays non-negative over the zone.
+template <class Omega2>
+double first_negative_over_pi(const Omega2& f) {
   const int steps = 4000;
   double prev = 0;
   for (int i = 1; i <= steps; ++i) {
@@ -166,6 +141,29 @@ double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_ba
     prev = x;
   }
   return kNaN;
+}
+
+}  // namespace
+
+double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
+                                    double c_sign) {
+  const double C = c_sign >= 0 ? 1.0 : -1.0;
+  const double sigma = sigma_bar * C;
+  return first_negative_over_pi(
+      [&](double x) { return omega2_eulerian_nodal_1d(W, dmx, 1.0, x, C, sigma, 1.0); });
+}
+
+double omega2_eulerian_nodal_1d(const Kernel& W, double dmx, double dx, double kappa,
+                                double C_sigmaT, double sigma, double rho, Normalization n) {
+  const Sums1D s = sums_1d(W, dmx, dx, 0.0);
+  const double t = sine_sum(s, kappa), q = cosine_sum(s, kappa, n);
+  return s.a * (C_sigmaT + sigma) / rho * t * t - sigma / rho * (q - s.a * t * t);
+}
+
+double onset_wavenumber_eulerian_1d(const Kernel& W, double dmx, double sigma_bar,
+                                    Normalization n) {
+  return first_negative_over_pi(
+      [&](double x) { return omega2_eulerian_nodal_1d(W, dmx, 1.0, x, 1.0, sigma_bar, 1.0, n); });
 }
 
 double onset_wavenumber_eulerian_three_point(const Kernel& W, double dmx, double sigma_bar,

@@ -19,6 +19,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The headline value `key` printed by `mfv run` (NaN when absent or not a number).
+double printed(const std::string& text, const std::string& key) {
+  const auto at = text.find("\n" + key + " ");
+  if (at == std::string::npos) return NAN;
+  try {
+    return std::stod(text.substr(at + key.size() + 2));
+  } catch (const std::exception&) {
+    return NAN;
+  }
+}
+
+/// `mfv run problem -m method -n nodes --problem-params params`: its printout; rc its code.
+std::string run_case_text(const Catalogue& c, const std::string& problem, const std::string& method,
+                          int nodes, const std::string& params, int& rc) {
+  RunOptions r;
+  r.problem = problem;
+  r.method = method;
+  r.problem_params = params;
+  r.nodes = nodes;
+  std::ostringstream out;
+  rc = command_run(c, r, out);
+  return out.str();
+}
+
 class TransientVerify : public ::testing::Test {
  protected:
   /// One rod-pulse case at 61 nodes with the given problem parameters and extra lines.
@@ -65,40 +89,33 @@ TEST_F(TransientVerify, ExpectedInstabilityPassesOnlyWhenItHappens) {
 // its energy blows up (the reproducer: SPH at 1.276 × the critical step for one transit, L2
 // error 63.6, energy drift 3.1, used to exit 0 and PASS).
 TEST_F(TransientVerify, AboveTheCriticalStepFailsEvenBeforeItBlowsUp) {
-  RunOptions r;
-  r.problem = "rod-pulse";
-  r.method = "sph";
-  r.problem_params = "frames=0,safety=1.3,transits=1,threads=1";
-  r.nodes = 25;
-  std::ostringstream run;
-  EXPECT_EQ(command_run(catalogue_, r, run), 1) << run.str();
+  int rc = 0;
+  const std::string run =
+      run_case_text(catalogue_, "rod-pulse", "sph", 25, "frames=0,safety=1.3,transits=1,threads=1", rc);
+  EXPECT_EQ(rc, 1) << run;
   // Six steps: too few for the drift bound (kMinDriftSteps), so the step names the cause.
-  EXPECT_NE(run.str().find("unstable at step 0, t = 0: the time step dt = "), std::string::npos)
-      << run.str();
-  EXPECT_NE(run.str().find("× the critical step 2/ω_max"), std::string::npos) << run.str();
+  EXPECT_NE(run.find("unstable at step 0, t = 0: the time step dt = "), std::string::npos) << run;
+  EXPECT_NE(run.find("× the critical step 2/ω_max"), std::string::npos) << run;
   // Just below the critical step it is a stable run.
-  r.problem_params = "frames=0,safety=0.99,transits=1,threads=1";
-  std::ostringstream below;
-  EXPECT_EQ(command_run(catalogue_, r, below), 0) << below.str();
+  const std::string below =
+      run_case_text(catalogue_, "rod-pulse", "sph", 25, "frames=0,safety=0.99,transits=1,threads=1", rc);
+  EXPECT_EQ(rc, 0) << below;
 }
 
 // Issue 26: the energy balance judges the whole run. A drift above drift_bound is unstable with
 // the drift, its bound and its step in the reason; the same stable run under the default bound
 // (0.5: the suite's stable runs end below 0.17) passes.
 TEST_F(TransientVerify, AnEnergyDriftAboveItsBoundFailsTheRun) {
-  RunOptions r;
-  r.problem = "rod-pulse";
-  r.method = "sph";
-  r.problem_params = "frames=0,transits=1,threads=1,drift_bound=1e-6";
-  r.nodes = 73;  // 29 steps: the bound judges runs of kMinDriftSteps (20) or more
-  std::ostringstream tight;
-  EXPECT_EQ(command_run(catalogue_, r, tight), 1) << tight.str();
-  EXPECT_NE(tight.str().find("the energy balance drifted by "), std::string::npos) << tight.str();
-  EXPECT_NE(tight.str().find("above the bound 1e-06 (drift_bound"), std::string::npos)
-      << tight.str();
-  r.problem_params = "frames=0,transits=1,threads=1";
-  std::ostringstream loose;
-  EXPECT_EQ(command_run(catalogue_, r, loose), 0) << loose.str();
+  // 73 nodes, 29 steps: the bound judges runs of kMinDriftSteps (20) or more.
+  int rc = 0;
+  const std::string tight = run_case_text(catalogue_, "rod-pulse", "sph", 73,
+                                          "frames=0,transits=1,threads=1,drift_bound=1e-6", rc);
+  EXPECT_EQ(rc, 1) << tight;
+  EXPECT_NE(tight.find("the energy balance drifted by "), std::string::npos) << tight;
+  EXPECT_NE(tight.find("above the bound 1e-06 (drift_bound"), std::string::npos) << tight;
+  const std::string loose =
+      run_case_text(catalogue_, "rod-pulse", "sph", 73, "frames=0,transits=1,threads=1", rc);
+  EXPECT_EQ(rc, 0) << loose;
   std::string out;
   EXPECT_EQ(verify("drift_bound = 1e-6", "", out), 1) << out;
   EXPECT_NE(out.find("energy balance drifted"), std::string::npos) << out;
@@ -113,15 +130,10 @@ TEST_F(TransientVerify, ADenormalLoadIsRefusedAsInput) {
         std::tuple{"grk-bar", "fem", "F0=1e-9,frames=0"},         // strain 3e-17: below F's
         std::tuple{"prestressed-rod", "sph", "v0=1e-9,frames=0"},  // below the round-off
         std::tuple{"rod-pulse", "sph", "velocity=1e300,frames=0"}}) {
-    RunOptions r;
-    r.problem = problem;
-    r.method = method;
-    r.problem_params = params;
-    r.nodes = 21;
-    std::ostringstream run;
     try {
-      command_run(catalogue_, r, run);
-      ADD_FAILURE() << problem << " ran with " << params << ": " << run.str();
+      int rc = 0;
+      const std::string run = run_case_text(catalogue_, problem, method, 21, params, rc);
+      ADD_FAILURE() << problem << " ran with " << params << ": " << run;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("rescale it"), std::string::npos) << e.what();
     }
@@ -130,15 +142,10 @@ TEST_F(TransientVerify, ADenormalLoadIsRefusedAsInput) {
 
 // A run that would reach none of its checkpoints measured nothing: refused before it runs.
 TEST_F(TransientVerify, ARunEndingBeforeItsFirstCheckpointIsRefused) {
-  RunOptions r;
-  r.problem = "grk-bar";
-  r.method = "fem";
-  r.problem_params = "frames=0,end_time=1e-7";
-  r.nodes = 21;
-  std::ostringstream run;
   try {
-    command_run(catalogue_, r, run);
-    FAIL() << "a run that measures nothing was run: " << run.str();
+    int rc = 0;
+    const std::string run = run_case_text(catalogue_, "grk-bar", "fem", 21, "frames=0,end_time=1e-7", rc);
+    FAIL() << "a run that measures nothing was run: " << run;
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nothing would be measured"), std::string::npos)
         << e.what();
@@ -157,20 +164,16 @@ TEST_F(TransientVerify, StudyAndRunSayWhatWasNotMeasuredOrReached) {
   EXPECT_EQ(command_compare(catalogue_, o, study, progress), 0);
   EXPECT_EQ(study.str().find("0.000e+00"), std::string::npos) << study.str();
 
-  RunOptions r;
-  r.problem = "rod-pulse";
-  r.method = "efg-ci";
-  r.problem_params = "safety=1.5,frames=0,threads=1";
-  r.nodes = 61;
-  std::ostringstream run;
-  EXPECT_EQ(command_run(catalogue_, r, run), 1) << "an unstable run is a failure";
-  EXPECT_NE(run.str().find("verdict   unstable at step "), std::string::npos) << run.str();
-  const std::string text = run.str();
+  int rc = 0;
+  const std::string text =
+      run_case_text(catalogue_, "rod-pulse", "efg-ci", 61, "safety=1.5,frames=0,threads=1", rc);
+  EXPECT_EQ(rc, 1) << "an unstable run is a failure";
+  EXPECT_NE(text.find("verdict   unstable at step "), std::string::npos) << text;
   const auto at = text.find("velocity error at L/c ");
   ASSERT_NE(at, std::string::npos) << text;
   const std::string line = text.substr(at, text.find('\n', at) - at);
   EXPECT_NE(line.find("not reached"), std::string::npos) << line;
-  EXPECT_NE(run.str().find("(stopped early; end time "), std::string::npos) << run.str();
+  EXPECT_NE(text.find("(stopped early; end time "), std::string::npos) << text;
 }
 
 }  // namespace
@@ -178,30 +181,6 @@ TEST_F(TransientVerify, StudyAndRunSayWhatWasNotMeasuredOrReached) {
 
 namespace mfv {
 namespace {
-
-/// The headline value `key` printed by `mfv run` (NaN when absent or not a number).
-double printed(const std::string& text, const std::string& key) {
-  const auto at = text.find("\n" + key + " ");
-  if (at == std::string::npos) return NAN;
-  try {
-    return std::stod(text.substr(at + key.size() + 2));
-  } catch (const std::exception&) {
-    return NAN;
-  }
-}
-
-/// `mfv run problem -m method -n nodes --problem-params params`: its printout; rc its code.
-std::string run_case_text(const Catalogue& c, const std::string& problem, const std::string& method,
-                          int nodes, const std::string& params, int& rc) {
-  RunOptions r;
-  r.problem = problem;
-  r.method = method;
-  r.problem_params = params;
-  r.nodes = nodes;
-  std::ostringstream out;
-  rc = command_run(c, r, out);
-  return out.str();
-}
 
 std::string run_plate(const Catalogue& c, const std::string& method, int nodes,
                       const std::string& params, int& rc) {
