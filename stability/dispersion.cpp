@@ -166,18 +166,20 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
   // 4. K_0J by central differences of the engine's force.
   const double eps = s.step * dx;
   Eigen::VectorXd du = Eigen::VectorXd::Zero(dim * n);
-  // ∂f_at/∂u_J, dim × dim: perturb J, read the force at `at`.
+  // ∂f/∂u_{J,k}, the whole force vector: perturb one unknown both ways.
+  const auto force_derivative = [&](int J, int k) -> Eigen::VectorXd {
+    du[dim * J + k] = eps;
+    const Eigen::VectorXd fp = engine.trial_force(du);
+    du[dim * J + k] = -eps;
+    const Eigen::VectorXd fm = engine.trial_force(du);
+    du[dim * J + k] = 0;
+    row.force_evaluations += 2;
+    return (fp - fm) / (2 * eps);
+  };
+  // ∂f_at/∂u_J, dim × dim.
   const auto direct_block = [&](int J, int at) {
     Eigen::MatrixXd K(dim, dim);
-    for (int k = 0; k < dim; ++k) {
-      du[dim * J + k] = eps;
-      const Eigen::VectorXd fp = engine.trial_force(du);
-      du[dim * J + k] = -eps;
-      const Eigen::VectorXd fm = engine.trial_force(du);
-      du[dim * J + k] = 0;
-      K.col(k) = (fp.segment(dim * at, dim) - fm.segment(dim * at, dim)) / (2 * eps);
-      row.force_evaluations += 2;
-    }
+    for (int k = 0; k < dim; ++k) K.col(k) = force_derivative(J, k).segment(dim * at, dim);
     return K;
   };
   for (int J : neighbours) row.offset.push_back(X.col(J) - X.col(c));
@@ -185,23 +187,13 @@ BlochRow bloch_row(const Method& method, const DispersionSetup& s) {
     // K_0J = K_{P,0}, X_P = X_0 − (X_J − X_0): the lattice and the uniform state are the same
     // seen from every particle, so the column of the centre's perturbation holds the row.
     Eigen::MatrixXd dforce(dim * n, dim);
-    for (int k = 0; k < dim; ++k) {
-      du[dim * c + k] = eps;
-      const Eigen::VectorXd fp = engine.trial_force(du);
-      du[dim * c + k] = -eps;
-      const Eigen::VectorXd fm = engine.trial_force(du);
-      du[dim * c + k] = 0;
-      dforce.col(k) = (fp - fm) / (2 * eps);
-      row.force_evaluations += 2;
-    }
-    std::vector<int> mirror;
+    for (int k = 0; k < dim; ++k) dforce.col(k) = force_derivative(c, k);
     for (int J : neighbours) {
       const Eigen::VectorXd want = 2 * X.col(c) - X.col(J);
       int P = -1;
       for (int I = 0; I < n && P < 0; ++I)
         if ((X.col(I) - want).norm() <= 1e-9 * dx) P = I;
       if (P < 0) throw std::logic_error("bloch_row: a lattice patch that is not centrally symmetric");
-      mirror.push_back(P);
       row.stiffness.push_back(dforce.middleRows(dim * P, dim));
     }
     // The check: direct differences at the farthest neighbour and at the nearest other one
