@@ -860,18 +860,6 @@ void ExplicitDynamics::step(double dt) {
   energy_.kinetic = kinetic_energy();
 }
 
-namespace {
-/// Σ_J N_J(X_I) u_J at every particle I (dim × n).
-Eigen::MatrixXd interpolated_at_particles(const ShapeTable& t, int dim, int n,
-                                         const Eigen::VectorXd& u) {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(dim, n);
-  for (int I = 0; I < n; ++I)
-    for (int e = t.offsets[I]; e < t.offsets[I + 1]; ++e)
-      for (int c = 0; c < dim; ++c) out(c, I) += t.value[e] * u[dim * t.index[e] + c];
-  return out;
-}
-}  // namespace
-
 void ExplicitDynamics::retabulate() {
   const int dd = dim_ * dim_;
   auto jac = [&](int q) {
@@ -883,7 +871,7 @@ void ExplicitDynamics::retabulate() {
   // The kernels' centres: the unknowns (coefficients), or the trial field at the particles
   // (KernelCentres::interpolated; the same for methods whose unknowns are particle values).
   if (opt_.kernel_centres == KernelCentres::interpolated && !d_.particle_values)
-    x = X_ + interpolated_at_particles(values_at_particles_, dim_, n_, u_);
+    x = particle_positions();
   else
     x = X_ + Eigen::Map<const Eigen::MatrixXd>(u_.data(), dim_, n_);
   Eigen::VectorXd& V = d_.particles.volume;
