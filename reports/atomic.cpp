@@ -169,7 +169,43 @@ bool is_pid_suffix(const std::string& s) {
 bool pid_alive(const std::string& pid) {
   const long p = std::stol(pid);
   if (p <= 0 || p == ::getpid()) return false;
-  return ::kill(static_cast<pid_t>(p), 0) == 0 || errno == EPERM;
+  if (::kill(static_cast<pid_t>(p), 0) != 0 && errno != EPERM) return false;
+  // A zombie writes nothing more: a rank killed under mpiexec is reparented to pid 1, which
+  // in a container may not reap it for a while, and its directory must not outlive that.
+  std::ifstream stat(fmt::format("/proc/{}/stat", p));
+  std::string line;
+  if (std::getline(stat, line)) {
+    const auto paren = line.rfind(')');  // the command name may hold spaces and parentheses
+    if (paren != std::string::npos && paren + 2 < line.size() &&
+        (line[paren + 2] == 'Z' || line[paren + 2] == 'X'))
+      return false;
+  }
+  return true;
+}
+
+/// A marker, or the temporary file write_file_atomic() writes a marker through
+/// (`<marker>.tmp-<pid>-<n>`): what a run killed while marking a directory leaves in it.
+bool is_marker_entry(const std::string& name) {
+  for (const char* marker : {kStagingMarker, kReportMarker}) {
+    const std::string m = marker;
+    if (name == m || name.rfind(m + ".tmp-", 0) == 0) return true;
+  }
+  return false;
+}
+
+/// Removes a staging or old directory of ours with its markers last, so that a run killed
+/// part way (SIGKILL after SIGTERM, as mpiexec does) leaves a directory that is still marked
+/// as mfv's and that the next run therefore removes.
+void remove_marked_last(const fs::path& dir) {
+  std::error_code ignored;
+  std::vector<fs::path> markers;
+  for (auto it = fs::directory_iterator(dir, ignored); !ignored && it != fs::directory_iterator();
+       it.increment(ignored)) {
+    if (is_marker_entry(it->path().filename().string())) markers.push_back(it->path());
+    else fs::remove_all(it->path(), ignored);
+  }
+  for (const auto& m : markers) fs::remove(m, ignored);
+  fs::remove_all(dir, ignored);
 }
 
 }  // namespace
@@ -342,11 +378,15 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
           continue;
         if (pid_alive(n.substr(prefix.size()))) continue;
         std::error_code ignored;
-        if (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
-            read_report_marker(e.path()))
-          fs::remove_all(e.path(), ignored);
-        else
-          fs::remove(e.path(), ignored);  // only if empty: an empty directory holds nothing
+        // Ours: it holds a marker, or nothing but a marker's temporary file (killed while
+        // marking it), or nothing at all.
+        bool only_marker_temps = true;
+        for (const auto& f : fs::directory_iterator(e.path(), ignored))
+          if (!is_marker_entry(f.path().filename().string())) only_marker_temps = false;
+        if (!ignored &&
+            (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
+             read_report_marker(e.path()) || only_marker_temps))
+          remove_marked_last(e.path());
       }
     }
   } catch (const fs::filesystem_error&) {
@@ -391,10 +431,7 @@ StagedDirectory::~StagedDirectory() {
   {
     auto& reg = StagingRegistry::get();
     std::lock_guard<std::mutex> hold(reg.mutex);
-    if (!committed_) {
-      std::error_code ignored;
-      fs::remove_all(staging_, ignored);
-    }
+    if (!committed_) remove_marked_last(staging_);
     reg.live.erase(staging_);
     if (lock_fd_ >= 0) {
       ::unlink(lock_.c_str());  // while still held: a run that opened it re-checks the inode
@@ -414,11 +451,13 @@ void StagedDirectory::commit() {
                                    options_.suite.empty() ? "-" : options_.suite,
                                    utc_now("%Y-%m-%dT%H:%M:%SZ"),
                                    MFV_VERSION);
-  std::error_code gone;
-  fs::remove(staging_ / kStagingMarker, gone);  // the report's own marker takes its place
   for (const auto& f : files_below(staging_))
-    if (f != kReportMarker) marker += fmt::format("file {}\n", f);
+    if (!is_marker_entry(f)) marker += fmt::format("file {}\n", f);
+  // The report's own marker takes the staging marker's place; written first, so the
+  // directory is marked at every moment.
   write_file_atomic(staging_ / kReportMarker, marker);
+  std::error_code gone;
+  fs::remove(staging_ / kStagingMarker, gone);
   // Someone may have put files into the target while we computed: check again.
   check_report_target(target_, options_.force);
   std::error_code ec;
@@ -427,7 +466,7 @@ void StagedDirectory::commit() {
     if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
       committed_ = true;
       // The staging name now holds the previous report (ours, or an empty directory).
-      fs::remove_all(staging_, ec);
+      remove_marked_last(staging_);
       return;
     }
     if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP)
@@ -454,7 +493,7 @@ void StagedDirectory::commit() {
                                                 : ""));
     }
     committed_ = true;
-    fs::remove_all(old, ec);
+    remove_marked_last(old);
     return;
   }
   fs::rename(staging_, target_, ec);
@@ -477,10 +516,7 @@ void install_staging_cleanup() {
     {
       auto& reg = StagingRegistry::get();
       std::lock_guard<std::mutex> hold(reg.mutex);
-      for (const auto& dir : reg.live) {
-        std::error_code ignored;
-        fs::remove_all(dir, ignored);
-      }
+      for (const auto& dir : reg.live) remove_marked_last(dir);
       for (const auto& lock : reg.locks) ::unlink(lock.c_str());
       reg.live.clear();
       reg.locks.clear();

@@ -67,7 +67,9 @@ std::optional<ReportMarker> read_report_marker(const std::filesystem::path& dir)
 ///   removed when this object goes;
 /// - staging and old copies left by dead runs for this target are removed: only directories
 ///   named `.<name>.staging-<pid>` / `.<name>.old-<pid>` whose pid is not alive and that hold
-///   mfv's marker (kStagingMarker, or a report's kReportMarker), or are empty;
+///   mfv's marker (kStagingMarker, or a report's kReportMarker), or nothing but a marker's
+///   temporary file (a run killed while marking it), or are empty. mfv removes such a
+///   directory with its markers last, so a run killed while removing one leaves it marked;
 /// - the staging directory is created, which proves the parent writable.
 /// A run that fails before commit() leaves the previous report untouched; the destructor only
 /// removes the staging directory. With install_staging_cleanup() a SIGINT, SIGTERM or SIGHUP

@@ -5,6 +5,10 @@
 #      untouched (rank 1 used to wait in PETSc for ever);
 #   2. a failure at commit, after the collective work: a file of the user's appears in the
 #      target while the run computes; exit 2, the file untouched, no rank left behind;
+#   3. SIGTERM to mpiexec while the ranks compute: no rank left behind, the previous report
+#      whole; a staging directory is removed by the ranks' signal handler or, when mpiexec
+#      follows its SIGTERM with a SIGKILL before they finish, by the next run (it stays marked
+#      as mfv's to the end: StagedDirectory removes markers last).
 # Usage: mpi_agreement.sh <mpiexec> <mfv>
 set -u
 mpiexec=$1
@@ -48,4 +52,31 @@ n=$(grep -c "input error" "$work/err2")
 [ "$n" -eq 1 ] || { cat "$work/err2"; fail "commit failure: $n error messages, expected one"; }
 echo "commit failure: exit 2, one message, the user's file kept"
 
+# 3. SIGTERM to mpiexec, six times at different moments of the run.
+rm -f "$work/rep/notes.txt"
+"$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "setup report 2"
+for delay in 0.05 0.1 0.2 0.4 0.6 0.8; do
+  timeout 120 "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
+    -p solver=petsc -r "$work/rep" > /dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 1 600); do
+    ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && break
+    sleep 0.05
+  done
+  sleep "$delay"
+  # timeout's child is mpiexec; timeout passes the signal on.
+  kill -TERM "$pid"
+  wait "$pid"
+  [ "$(grep -c laplace-tanh "$work/rep/index.md")" -ge 1 ] ||
+    fail "SIGTERM after ${delay} s: the previous report is not whole"
+  for _ in $(seq 1 100); do pgrep -f "$work/rep" > /dev/null || break; sleep 0.1; done
+  pgrep -af "$work/rep" && fail "SIGTERM after ${delay} s: a rank still runs 10 s later"
+done
+left=$(ls -d "$work"/.rep.staging-* 2> /dev/null | wc -l)
+"$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "run after SIGTERM"
+if ls -d "$work"/.rep.staging-* > /dev/null 2>&1; then
+  ls -laR "$work"/.rep.staging-*
+  fail "SIGTERM: a staging directory outlived the next run"
+fi
+echo "SIGTERM to mpiexec: previous report whole, no rank left, $left staging dir(s) left for the next run, which removed them"
 echo PASS

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "methods/core/errors.hpp"
@@ -157,6 +158,12 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   test::write_text(dir.path() / ".run.old-999998" / "index.md", "dead run");
   test::write_text(dir.path() / ".run.old-999998" / kReportMarker, "mfv-report 1\nsuite -\n");
   fs::create_directories(dir.path() / ".run.old-999996");  // empty: nothing to lose
+  // Killed while marking: only the marker's temporary file (write_file_atomic's name).
+  test::write_text(dir.path() / ".run.staging-999994" / (std::string(kStagingMarker) + ".tmp-999994-0"),
+                   "mfv-stag");
+  // A marker's temporary name beside a file of the user's does not make the directory ours.
+  test::write_text(dir.path() / ".run.staging-999993" / (std::string(kStagingMarker) + ".tmp-1-0"), "");
+  test::write_text(dir.path() / ".run.staging-999993" / "data.csv", "a user's file");
   // Issue 26: names that only look like ours stay — no marker, or a live pid (1 is init).
   test::write_text(dir.path() / ".run.staging-999995" / "thesis.tex", "a user's directory");
   test::write_text(dir.path() / ".run.staging-1" / kStagingMarker, "mfv-staging 1\n");
@@ -166,10 +173,28 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   write_report(target, "new");
   EXPECT_EQ(names_in(dir.path()),
             (std::vector<std::string>{".other.staging-999997", ".run.staging-1",
-                                      ".run.staging-999995", ".run.staging-notes", "run"}));
+                                      ".run.staging-999993", ".run.staging-999995",
+                                      ".run.staging-notes", "run"}));
+  EXPECT_EQ(read_file(dir.path() / ".run.staging-999993" / "data.csv"), "a user's file");
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999995" / "thesis.tex"), "a user's directory");
   // The staging marker never reaches the report.
   EXPECT_FALSE(fs::exists(target / kStagingMarker));
+}
+
+TEST(ReportTarget, AZombiesStagingIsCleaned) {
+  // Issue 26: a rank killed under mpiexec stays a zombie until pid 1 reaps it; it writes
+  // nothing more, so its staging directory is a dead run's.
+  TempDir dir;
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::usleep(100000);  // the child has exited and, unreaped, is a zombie
+  const auto staging = dir.path() / fmt::format(".run.staging-{}", child);
+  test::write_text(staging / kStagingMarker, "mfv-staging 1\n");
+  test::write_text(staging / "index.md", "a killed rank's");
+  write_report(dir.path() / "run", "new");
+  EXPECT_FALSE(fs::exists(staging));
+  ::waitpid(child, nullptr, 0);
 }
 
 TEST(ReportTarget, AStagingDirectoryIsMarkedFromItsCreation) {
