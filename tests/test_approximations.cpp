@@ -9,6 +9,7 @@
 
 #include "methods/core/errors.hpp"
 #include "methods/core/parallel.hpp"
+#include "methods/approximations/particle_gradients.hpp"
 #include "test_support.hpp"
 
 namespace mfv {
@@ -288,6 +289,34 @@ INSTANTIATE_TEST_SUITE_P(
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return n;
     });
+
+/// The plain kernel sums' first-order rows (written straight into the table, the Eulerian
+/// SPH recomputation's path) equal the general path's (order 2) bit for bit, and the SPH
+/// gradient built in place equals the one built into a second table.
+TEST(FastEvaluate, PlainKernelRowsAndTheInPlaceSphGradientAreTheGeneralOnes) {
+  ParticleSet p;
+  p.dim = 2;
+  p.x = random_cloud(400, 23);
+  p.volume = Eigen::VectorXd::Constant(400, 1.0 / 400);
+  p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
+  for (const char* kernel : {"cubic-spline", "quartic-spline", "gaussian"}) {
+    const auto sph =
+        test_catalogue().approximations.create("sph", Params::parse(fmt::format("kernel={}", kernel)));
+    // Points: the particles themselves (a coincident particle per row) and a cloud.
+    for (const Eigen::MatrixXd& points : {p.x, Eigen::MatrixXd(random_cloud(900, 24))}) {
+      const ShapeTable first = sph->evaluate(p, points, 1);
+      const ShapeTable second = sph->evaluate(p, points, 2);
+      EXPECT_EQ(first.offsets, second.offsets) << kernel;
+      EXPECT_EQ(first.index, second.index) << kernel;
+      EXPECT_EQ(first.value, second.value) << kernel;
+      EXPECT_EQ(first.grad, second.grad) << kernel;
+    }
+    ShapeTable in_place = sph->evaluate(p, p.x, 1);
+    const ShapeTable copied = sph_symmetric_gradient(in_place);
+    sph_symmetric_gradient_in_place(in_place, 2);
+    expect_identical(copied, in_place, kernel);
+  }
+}
 
 TEST(FastEvaluate, ThrowsTheLowestPointsErrorOnAnyThreadCount) {
   const auto mls = test_catalogue().approximations.create("mls");

@@ -125,6 +125,9 @@ struct CorrectedKernelApproximation::PointEvaluator {
   /// The weight factor of each particle, kernel_scale / a_J^d [ΔV_J], when the points are
   /// many (one pow per particle instead of one per entry); empty: computed per entry.
   std::vector<double> factor;
+  /// (support · a_J)²: x lies in particle J's support when |x − x_J|² is below it (a square
+  /// root and a division only for the particles that are in).
+  std::vector<double> reach2;
 
   PointEvaluator(const CorrectedKernelApproximation& approx, const ParticleSet& p, int ord,
                  Eigen::Index points)
@@ -145,6 +148,11 @@ struct CorrectedKernelApproximation::PointEvaluator {
         }
         factor[J] = o.volume_weighted ? scaled * particles.volume[J] : scaled;
       }
+    }
+    reach2.resize(particles.size());
+    for (int J = 0; J < particles.size(); ++J) {
+      const double reach = support * particles.dilation[J];
+      reach2[J] = reach * reach;
     }
     nb = o.correct ? basis_size(o.basis_order, dim) : 0;
     nh = dim * dim;
@@ -185,15 +193,37 @@ struct CorrectedKernelApproximation::PointEvaluator {
         sc.r[k * dim + d] = dd;
         dist2 += dd * dd;
       }
-      const double sj = std::sqrt(dist2) / particles.dilation[J];
-      if (sj < support) {
+      if (dist2 < reach2[J]) {
         sc.nbrs[k] = J;
-        sc.s[k] = sj;
+        sc.s[k] = std::sqrt(dist2) / particles.dilation[J];
         ++k;
       }
     }
     sc.nbrs.resize(k);
     sc.s.resize(k);
+    return k;
+  }
+
+  /// How many particles of `cand` support_of would keep: the same test, nothing stored (the
+  /// first of evaluate_into's two passes only sizes the rows).
+  std::size_t support_count(const double* x, std::span<const int> cand) const {
+    std::size_t k = 0;
+    const double* X = particles.x.data();
+    if (dim == 2) {
+      for (const int J : cand) {
+        const double d0 = x[0] - X[2 * J], d1 = x[1] - X[2 * J + 1];
+        k += (d0 * d0 + d1 * d1) < reach2[J];
+      }
+      return k;
+    }
+    for (const int J : cand) {
+      double dist2 = 0;
+      for (int d = 0; d < dim; ++d) {
+        const double dd = x[d] - X[static_cast<std::size_t>(dim) * J + d];
+        dist2 += dd * dd;
+      }
+      k += dist2 < reach2[J];
+    }
     return k;
   }
 
@@ -281,13 +311,34 @@ struct CorrectedKernelApproximation::PointEvaluator {
                        &hw = sc.hw, &r = sc.r;
     W.resize(k);
     dW.resize(k);
-    d2W.resize(k);
+    d2W.resize(order >= 2 ? k : 0);
     a.kernel_->evaluate(s, W, order >= 1 ? std::span<double>(dW) : std::span<double>{},
                         order >= 2 ? std::span<double>(d2W) : std::span<double>{});
-    // Weights w_J(x) and their x-derivatives.
-    w.assign(k, 0);
+    // The plain kernel sums (sph) up to first derivatives: straight into the table, the same
+    // arithmetic as the weights below (the Eulerian recomputation's hot loop).
+    if (!o.correct && order <= 1 &&
+        !(fallback && static_cast<int>(k) < std::max(1, a.minimum_support_count(dim)))) {
+      for (std::size_t m = 0; m < k; ++m) {
+        const int J = sc.nbrs[m];
+        const double aj = particles.dilation[J];
+        const double c = factor.empty() ? weight_factor(J) : factor[J];
+        const std::size_t e = row0 + m;
+        t.index[e] = J;
+        t.value[e] = c * W[m];
+        if (order < 1) continue;
+        const double dist = s[m] * aj;
+        const double* rr = &r[m * dim];
+        const bool centre = dist < 1e-14 * aj;
+        for (int i = 0; i < dim; ++i)
+          t.grad[e * dim + i] = centre ? 0.0 : c * dW[m] * rr[i] / (dist * aj);
+      }
+      return false;
+    }
+    // Weights w_J(x) and their x-derivatives. The second derivatives are read only at
+    // order 2 and at a coincident particle, where they are written below.
+    w.resize(k);
     gw.assign(k * dim, 0);
-    hw.assign(k * nh, 0);
+    hw.assign(order >= 2 ? k * nh : 0, 0);
     for (std::size_t m = 0; m < k; ++m) {
       const int J = sc.nbrs[m];
       const double aj = particles.dilation[J];
@@ -297,7 +348,8 @@ struct CorrectedKernelApproximation::PointEvaluator {
       const double dist = s[m] * aj;
       const double* rr = &r[m * dim];
       if (dist < 1e-14 * aj) {
-        for (int i = 0; i < dim; ++i) hw[m * nh + i * dim + i] = c * d2W[m] / (aj * aj);
+        if (order >= 2)
+          for (int i = 0; i < dim; ++i) hw[m * nh + i * dim + i] = c * d2W[m] / (aj * aj);
         continue;
       }
       for (int i = 0; i < dim; ++i) gw[m * dim + i] = c * dW[m] * rr[i] / (dist * aj);
@@ -448,15 +500,11 @@ void CorrectedKernelApproximation::evaluate_into(const ParticleSet& particles,
   // (the row offsets), then the rows. The table is the serial one on any thread count.
   FirstError error;
   const bool parallel = run_parallel(threads, nq);
-#pragma omp parallel num_threads(threads) if (parallel)
-  {
-    PointScratch sc;
-#pragma omp for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads) if (parallel)
     for (int q = 0; q < nq; ++q) {
       const double* x = points.col(q).data();
-      t.offsets[q + 1] = static_cast<int>(eval.support_of(x, lists.candidates(q), sc));
+      t.offsets[q + 1] = static_cast<int>(eval.support_count(x, lists.candidates(q)));
     }
-  }
   // The table's size is known now, before its values are allocated: a support that makes it
   // dense, or larger than the memory there is, is refused with the estimate (issue 26).
   std::int64_t total = 0;

@@ -83,6 +83,34 @@ void sph_symmetric_gradient(const ShapeTable& sph, ShapeTable& t, int threads) {
   }
 }
 
+void sph_symmetric_gradient_in_place(ShapeTable& t, int threads) {
+  const int dim = t.dim;
+  const int n = t.points();
+  t.hess.clear();
+  if (t.grad.size() != static_cast<std::size_t>(t.entries()) * dim)
+    throw std::logic_error("the SPH table needs its first derivatives");
+  FirstError error;
+  // As sph_symmetric_gradient: the off-diagonal gradients stay, the diagonal's is minus their
+  // sum in the same order, the values become δ_IJ.
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads)) if (run_parallel(threads, n))
+  for (int q = 0; q < n; ++q) {
+    const int kd = diagonal_entry(t, q);
+    if (kd < 0) {
+      error.keep(q, std::make_exception_ptr(
+                        std::logic_error("a particle lies outside its own support")));
+      continue;
+    }
+    double diag[3] = {0, 0, 0};
+    for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k) {
+      t.value[k] = k == kd ? 1.0 : 0.0;
+      if (k == kd) continue;
+      for (int d = 0; d < dim; ++d) diag[d] -= t.grad[k * dim + d];
+    }
+    for (int d = 0; d < dim; ++d) t.grad[kd * dim + d] = diag[d];
+  }
+  error.rethrow();
+}
+
 RandlesLiberskyTables randles_libersky(const ShapeTable& sph, const ParticleSet& p) {
   RandlesLiberskyTables out;
   randles_libersky(sph, p, out, 1);

@@ -16,6 +16,9 @@ ShapeTable sph_symmetric_gradient(const ShapeTable& sph_at_particles);
 /// The same into `out` in place (storage reused), rows spread over `threads` OpenMP threads;
 /// equal bit for bit on any thread count. Likewise the in-place forms below.
 void sph_symmetric_gradient(const ShapeTable& sph_at_particles, ShapeTable& out, int threads);
+/// The same with the SPH table turned into the gradient table where it lies (the rows are the
+/// same); equal bit for bit to the forms above.
+void sph_symmetric_gradient_in_place(ShapeTable& sph_at_particles, int threads);
 
 /// Randles–Libersky normalized gradient (001 eqs 33–34): c_IJ = V_J Bᵀ_I ∇W(X_I - X_J),
 /// B_I⁻¹ = Σ_J V_J (X_J - X_I) ⊗ ∇W(X_I - X_J), so linear fields are differentiated exactly.

@@ -39,9 +39,10 @@ inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
 }
 
 /// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles;
-/// `degenerate` (null: throw) as the particle gradient functions take it.
+/// `degenerate` (null: throw) as the particle gradient functions take it. The SPH table is
+/// scratch: `tables` may take its storage (swap it into trial_q and transform it in place).
 using CollocationTables =
-    std::function<void(const ShapeTable& sph, const ParticleSet&, Discretization&, int threads,
+    std::function<void(ShapeTable& sph, const ParticleSet&, Discretization&, int threads,
                        DegenerateMarks* degenerate)>;
 /// A collocation particle method (SPH, RLM): nodal rule, the SPH kernel table at the
 /// particles turned into gradient tables by `tables`, particle values as unknowns and a

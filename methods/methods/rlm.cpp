@@ -14,7 +14,7 @@ void register_rlm(MethodRegistry& r, const MethodParts& parts) {
         particle_method_schema(parts.kernels, false), [parts](const Params& p) {
           return make_collocation_method(
               parts, p, "Randles-Libersky collocation",
-              [](const ShapeTable& sph, const ParticleSet& particles, Discretization& d,
+              [](ShapeTable& sph, const ParticleSet& particles, Discretization& d,
                  int threads, DegenerateMarks* degenerate) {
                 // Into the discretization's own tables: their storage is reused.
                 RandlesLiberskyTables tables{std::move(d.trial_q), std::move(d.test_q)};

@@ -27,7 +27,8 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
       tables(cache->kernel_table, d.particles, d, cache->threads, degenerate);
       cache->degenerate_points = marks.count();
     } else {
-      tables(sph->evaluate(d.particles, d.particles.x, 1), d.particles, d, 1, nullptr);
+      ShapeTable kernel = sph->evaluate(d.particles, d.particles.x, 1);
+      tables(kernel, d.particles, d, 1, nullptr);
     }
     d.trial = mls;  // reconstruction of the particle values between particles
     d.test = sph;
@@ -50,9 +51,13 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
               parts, p, "symmetrized SPH collocation",
               // No correction, nothing to invert: every particle lies in its own support, so
               // the kernel sums never fall back and a degenerate support needs no fallback.
-              [](const ShapeTable& sph, const ParticleSet&, Discretization& d, int threads,
+              [](ShapeTable& sph, const ParticleSet&, Discretization& d, int threads,
                  DegenerateMarks*) {
-                sph_symmetric_gradient(sph, d.trial_q, threads);
+                // The kernel table becomes the gradient table in place (its rows are the
+                // same): no copy of the rows per Eulerian recomputation, and the previous
+                // gradient table's storage goes back to the cache for the next kernel table.
+                std::swap(sph, d.trial_q);
+                sph_symmetric_gradient_in_place(d.trial_q, threads);
                 d.test_q = d.trial_q;  // the force is the transpose of the gradient: symmetric
                 d.gradient_consistency = 0;  // no correction: only constants (001 eq 25)
               });
