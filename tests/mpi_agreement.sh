@@ -17,15 +17,19 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+# Hang limits, scaled for a sanitized build (tests/CMakeLists.txt sets MFV_MPI_TIME_SCALE).
+scale=${MFV_MPI_TIME_SCALE:-1}
+case "$scale" in '' | *[!0-9]*) fail "MFV_MPI_TIME_SCALE must be a whole number, got '$scale'" ;; esac
+short=$((60 * scale)) long=$((120 * scale))
 
 # 1. Refused target.
 mkdir "$work/mine"
 echo "my thesis" > "$work/mine/thesis.txt"
 start=$(date +%s)
-timeout 60 "$mpiexec" -n 2 --oversubscribe "$mfv" study laplace-tanh -m fem -n 5,9 \
+timeout "$short" "$mpiexec" -n 2 --oversubscribe "$mfv" study laplace-tanh -m fem -n 5,9 \
   -p solver=petsc -r "$work/mine" > "$work/out1" 2> "$work/err1"
 rc=$?
-[ $rc -eq 124 ] && fail "refused target: hung (timeout)"
+[ $rc -eq 124 ] && fail "refused target: no exit within ${short} s (hung)"
 [ $rc -eq 2 ] || { cat "$work/err1"; fail "refused target: exit $rc, expected 2"; }
 [ "$(cat "$work/mine/thesis.txt")" = "my thesis" ] || fail "refused target: the user's file changed"
 n=$(grep -c "input error" "$work/err1")
@@ -35,16 +39,16 @@ echo "refused target: exit 2 in $(( $(date +%s) - start )) s, one message"
 # 2. Failure at commit: an earlier mfv report as the target; a file of the user's is put into
 # it while the study runs.
 "$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "setup report"
-( timeout 120 "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
+( timeout "$long" "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
     -p solver=petsc -r "$work/rep" > "$work/out2" 2> "$work/err2"; echo $? > "$work/rc2" ) &
-for _ in $(seq 1 600); do
+for _ in $(seq 1 $((600 * scale))); do
   ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && break
   sleep 0.05
 done
 echo "added while mfv ran" > "$work/rep/notes.txt"
 wait
 rc=$(cat "$work/rc2")
-[ "$rc" -eq 124 ] && fail "commit failure: hung (timeout)"
+[ "$rc" -eq 124 ] && fail "commit failure: no exit within ${long} s (hung)"
 [ "$rc" -eq 2 ] || { cat "$work/err2"; fail "commit failure: exit $rc, expected 2"; }
 [ "$(cat "$work/rep/notes.txt")" = "added while mfv ran" ] || fail "commit failure: the user's file changed"
 ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && fail "commit failure: a staging directory was left"
@@ -56,10 +60,10 @@ echo "commit failure: exit 2, one message, the user's file kept"
 rm -f "$work/rep/notes.txt"
 "$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "setup report 2"
 for delay in 0.05 0.1 0.2 0.4 0.6 0.8; do
-  timeout 120 "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
+  timeout "$long" "$mpiexec" -n 2 --oversubscribe "$mfv" study cantilever -m fem -n 5,9,17,33,65 \
     -p solver=petsc -r "$work/rep" > /dev/null 2>&1 &
   pid=$!
-  for _ in $(seq 1 600); do
+  for _ in $(seq 1 $((600 * scale))); do
     ls -d "$work"/.rep.staging-* > /dev/null 2>&1 && break
     sleep 0.05
   done
@@ -77,8 +81,8 @@ for delay in 0.05 0.1 0.2 0.4 0.6 0.8; do
     [ "$(grep -c laplace-tanh "$work/rep/index.md")" -ge 1 ] ||
       fail "SIGTERM after ${delay} s (exit $rc): the previous report is not whole"
   fi
-  for _ in $(seq 1 100); do pgrep -f "$work/rep" > /dev/null || break; sleep 0.1; done
-  pgrep -af "$work/rep" && fail "SIGTERM after ${delay} s: a rank still runs 10 s later"
+  for _ in $(seq 1 $((100 * scale))); do pgrep -f "$work/rep" > /dev/null || break; sleep 0.1; done
+  pgrep -af "$work/rep" && fail "SIGTERM after ${delay} s: a rank still runs $((10 * scale)) s later"
 done
 left=$(ls -d "$work"/.rep.staging-* 2> /dev/null | wc -l)
 "$mfv" study laplace-tanh -m fem -n 5,9 -r "$work/rep" > /dev/null 2>&1 || fail "run after SIGTERM"

@@ -318,6 +318,26 @@ TEST(FastEvaluate, PlainKernelRowsAndTheInPlaceSphGradientAreTheGeneralOnes) {
   }
 }
 
+/// KBM's MLS trial values (2D linear basis, order 0) on fixed-size matrices equal the values
+/// of the general path (order 1, dynamic-size matrices) bit for bit.
+TEST(FastEvaluate, LinearMlsValuesOnFixedSizeMatricesAreTheGeneralOnes) {
+  ParticleSet p;
+  p.dim = 2;
+  p.x = random_cloud(400, 25);
+  p.volume = Eigen::VectorXd::Constant(400, 1.0 / 400);
+  p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
+  for (const char* kernel : {"cubic-spline", "quartic-spline", "gaussian"}) {
+    const auto mls =
+        test_catalogue().approximations.create("mls", Params::parse(fmt::format("kernel={}", kernel)));
+    for (const Eigen::MatrixXd& points : {p.x, Eigen::MatrixXd(random_cloud(900, 26).array() * 0.8 + 0.1)}) {
+      const ShapeTable values = mls->evaluate(p, points, 0);
+      const ShapeTable general = mls->evaluate(p, points, 1);
+      EXPECT_EQ(values.index, general.index) << kernel;
+      EXPECT_EQ(values.value, general.value) << kernel;
+    }
+  }
+}
+
 TEST(FastEvaluate, ThrowsTheLowestPointsErrorOnAnyThreadCount) {
   const auto mls = test_catalogue().approximations.create("mls");
   ParticleSet p;

@@ -266,6 +266,34 @@ struct CorrectedKernelApproximation::PointEvaluator {
     return true;
   }
 
+  /// The values of the 2D linear-basis row (KBM's MLS trial values, order 0) with fixed-size
+  /// matrices: the general path's arithmetic (the same basis, sums, LDLT and solve) without
+  /// the dynamic-size allocations per point. Returns false, leaving the row to the general
+  /// path, where the moment matrix is singular or ill-conditioned (that path then reports it or
+  /// falls back exactly as before).
+  bool linear_values_2d(PointScratch& sc, ShapeTable& t, int row0) const {
+    const std::size_t k = sc.nbrs.size();
+    const std::vector<double>&w = sc.w, &r = sc.r;
+    Eigen::MatrixXd& P = sc.P;
+    P.resize(3, static_cast<Eigen::Index>(k));
+    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    for (std::size_t m = 0; m < k; ++m) {
+      double* p = P.col(static_cast<Eigen::Index>(m)).data();
+      p[0] = 1;
+      p[1] = -r[m * 2] / amax;
+      p[2] = -r[m * 2 + 1] / amax;
+      const double cp[3] = {w[m] * p[0], w[m] * p[1], w[m] * p[2]};
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) M(i, j) += p[j] * cp[i];
+    }
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(M);
+    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-13)) return false;
+    const Eigen::Vector3d gamma = ldlt.solve(Eigen::Vector3d::UnitX());
+    for (std::size_t m = 0; m < k; ++m)
+      t.value[row0 + m] = gamma.dot(P.col(static_cast<Eigen::Index>(m))) * w[m];
+    return true;
+  }
+
   /// The fallback row of a degenerate support (the class comment says when): the Shepard
   /// functions N_J = γ w_J, γ = 1/S, S = Σ w_J, with their exact derivatives
   /// ∂_i γ = -S_i/S², ∂_ij γ = -S_ij/S² + 2 S_i S_j/S³; a zero row where S is not a normal
@@ -377,6 +405,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
     }
 
     if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return false;
+    if (nb == 3 && order == 0 && linear_values_2d(sc, t, row0)) return false;
 
     // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
     Eigen::MatrixXd& P = sc.P;

@@ -27,9 +27,9 @@ int diagonal_entry(const ShapeTable& t, int q) {
 /// when M is singular or nearly so (relative to its size); the message is built only then,
 /// since this runs once per point. With `fallback` the singular case gives inverse = I and
 /// returns true instead of throwing (the callers' headers say what the identity means).
-template <class Message>
-bool invert_or_throw(const Eigen::MatrixXd& M, Eigen::FullPivLU<Eigen::MatrixXd>& lu,
-                     Eigen::MatrixXd& inverse, const Message& what, bool fallback = false) {
+template <class Matrix, class Message>
+bool invert_or_throw(const Matrix& M, Eigen::FullPivLU<Matrix>& lu, Matrix& inverse,
+                     const Message& what, bool fallback = false) {
   lu.compute(M);
   if (!lu.isInvertible() ||
       !(std::abs(lu.determinant()) > 1e-12 * std::pow(M.norm(), static_cast<double>(M.rows())))) {
@@ -214,25 +214,24 @@ ShapeTable corrected_gradient(const ShapeTable& shepard, const ShapeTable& value
   return t;
 }
 
-void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
-                        const ParticleSet& p, const Eigen::MatrixXd& points, ShapeTable& t,
-                        int threads, DegenerateMarks* degenerate) {
-  require_same_rows(shepard, values);
+namespace {
+
+/// corrected_gradient's rows, with the 2 × 2 (or dim × dim) correction in `Matrix`: fixed
+/// size in 2D (the same LU, pivots and products as the dynamic size, bit for bit, without its
+/// allocations per point), dynamic otherwise.
+template <class Matrix>
+void corrected_rows(const ShapeTable& shepard, const ParticleSet& p, const Eigen::MatrixXd& points,
+                    ShapeTable& t, int threads, DegenerateMarks* degenerate) {
   const int dim = shepard.dim;
   const int n = shepard.points();
-  t.dim = values.dim;
-  t.order = 1;
-  t.offsets = values.offsets;
-  t.index = values.index;
-  t.value = values.value;
-  t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
-  t.hess.clear();
-  if (degenerate) degenerate->cover(n);
   FirstError error;
 #pragma omp parallel num_threads(std::max(1, threads)) if (run_parallel(threads, n))
   {
-    Eigen::MatrixXd M(dim, dim), a(dim, dim);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(dim, dim);
+    Matrix M(dim, dim), a(dim, dim);
+    Eigen::FullPivLU<Matrix> lu(dim, dim);
+    // Eigen's own default threshold (ε × the diagonal's size), set explicitly: the fixed-size
+    // LU would otherwise carry an unset prescribed threshold that GCC warns about.
+    lu.setThreshold(Eigen::NumTraits<double>::epsilon() * dim);
     Eigen::VectorXd g(dim), G(dim);
 #pragma omp for schedule(static)
     for (int q = 0; q < n; ++q) {
@@ -267,6 +266,17 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
             },
             degenerate != nullptr);
         if (fell_back) degenerate->mark(q);
+        if (dim <= 2) {
+          // a g by hand: with one or two terms a sum has one rounding whatever its order, so
+          // this is Eigen's product bit for bit, without its dynamic-size call per entry.
+          for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k)
+            for (int d = 0; d < dim; ++d) {
+              double v = a(d, 0) * shepard.grad[k * dim];
+              if (dim == 2) v += a(d, 1) * shepard.grad[k * dim + 1];
+              t.grad[k * dim + d] = v;
+            }
+          continue;
+        }
         for (int k = shepard.offsets[q]; k < shepard.offsets[q + 1]; ++k) {
           for (int j = 0; j < dim; ++j) g[j] = shepard.grad[k * dim + j];
           G.noalias() = a * g;
@@ -278,6 +288,28 @@ void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
     }
   }
   error.rethrow();
+}
+
+}  // namespace
+
+void corrected_gradient(const ShapeTable& shepard, const ShapeTable& values,
+                        const ParticleSet& p, const Eigen::MatrixXd& points, ShapeTable& t,
+                        int threads, DegenerateMarks* degenerate) {
+  require_same_rows(shepard, values);
+  const int dim = shepard.dim;
+  const int n = shepard.points();
+  t.dim = values.dim;
+  t.order = 1;
+  t.offsets = values.offsets;
+  t.index = values.index;
+  t.value = values.value;
+  t.grad.assign(static_cast<std::size_t>(t.entries()) * dim, 0.0);
+  t.hess.clear();
+  if (degenerate) degenerate->cover(n);
+  if (dim == 2)
+    corrected_rows<Eigen::Matrix2d>(shepard, p, points, t, threads, degenerate);
+  else
+    corrected_rows<Eigen::MatrixXd>(shepard, p, points, t, threads, degenerate);
 }
 
 }  // namespace mfv
