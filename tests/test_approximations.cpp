@@ -182,10 +182,12 @@ void expect_complete(const NeighbourLists& lists, const Eigen::MatrixXd& particl
   for (Eigen::Index q = 0; q < points.cols(); ++q) {
     const auto c = lists.candidates(static_cast<int>(q));
     EXPECT_TRUE(std::is_sorted(c.begin(), c.end())) << when << ", point " << q;
-    for (Eigen::Index J = 0; J < particles.cols(); ++J)
-      if ((points.col(q) - particles.col(J)).norm() < r)
+    for (Eigen::Index J = 0; J < particles.cols(); ++J) {
+      if ((points.col(q) - particles.col(J)).norm() < r) {
         EXPECT_TRUE(std::binary_search(c.begin(), c.end(), static_cast<int>(J)))
             << when << ": particle " << J << " missing from point " << q;
+      }
+    }
   }
 }
 
@@ -293,13 +295,21 @@ INSTANTIATE_TEST_SUITE_P(
 /// The plain kernel sums' first-order rows (written straight into the table, the Eulerian
 /// SPH recomputation's path) equal the general path's (order 2) bit for bit, and the SPH
 /// gradient built in place equals the one built into a second table.
-TEST(FastEvaluate, PlainKernelRowsAndTheInPlaceSphGradientAreTheGeneralOnes) {
+/// 400 random particles in the unit square with dilations 0.11–0.14 (supports not symmetric).
+ParticleSet varied_cloud(unsigned seed) {
   ParticleSet p;
   p.dim = 2;
-  p.x = random_cloud(400, 23);
+  p.x = random_cloud(400, seed);
   p.volume = Eigen::VectorXd::Constant(400, 1.0 / 400);
   p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
-  for (const char* kernel : {"cubic-spline", "quartic-spline", "gaussian"}) {
+  return p;
+}
+
+const char* const kFastPathKernels[] = {"cubic-spline", "quartic-spline", "gaussian"};
+
+TEST(FastEvaluate, PlainKernelRowsAndTheInPlaceSphGradientAreTheGeneralOnes) {
+  const ParticleSet p = varied_cloud(23);
+  for (const char* kernel : kFastPathKernels) {
     const auto sph =
         test_catalogue().approximations.create("sph", Params::parse(fmt::format("kernel={}", kernel)));
     // Points: the particles themselves (a coincident particle per row) and a cloud.
@@ -321,12 +331,8 @@ TEST(FastEvaluate, PlainKernelRowsAndTheInPlaceSphGradientAreTheGeneralOnes) {
 /// KBM's MLS trial values (2D linear basis, order 0) on fixed-size matrices equal the values
 /// of the general path (order 1, dynamic-size matrices) bit for bit.
 TEST(FastEvaluate, LinearMlsValuesOnFixedSizeMatricesAreTheGeneralOnes) {
-  ParticleSet p;
-  p.dim = 2;
-  p.x = random_cloud(400, 25);
-  p.volume = Eigen::VectorXd::Constant(400, 1.0 / 400);
-  p.dilation = Eigen::VectorXd::LinSpaced(400, 0.11, 0.14);
-  for (const char* kernel : {"cubic-spline", "quartic-spline", "gaussian"}) {
+  const ParticleSet p = varied_cloud(25);
+  for (const char* kernel : kFastPathKernels) {
     const auto mls =
         test_catalogue().approximations.create("mls", Params::parse(fmt::format("kernel={}", kernel)));
     for (const Eigen::MatrixXd& points : {p.x, Eigen::MatrixXd(random_cloud(900, 26).array() * 0.8 + 0.1)}) {
