@@ -344,6 +344,24 @@ TEST(FastEvaluate, LinearMlsValuesOnFixedSizeMatricesAreTheGeneralOnes) {
   }
 }
 
+/// The other three-term basis, quadratic on a line, takes the same fixed-size path: its
+/// values are the general path's bit for bit too (the path reads the basis of the dimension
+/// it is in).
+TEST(FastEvaluate, QuadraticMlsValuesOnALineAreTheGeneralOnes) {
+  ParticleSet p;
+  p.dim = 1;
+  p.x = Eigen::RowVectorXd::LinSpaced(41, 0, 1);
+  p.x(0, 7) += 0.004;  // not a lattice: the moment matrices differ from point to point
+  p.volume = Eigen::VectorXd::Constant(41, 1.0 / 40);
+  p.dilation = Eigen::VectorXd::Constant(41, 0.09);
+  const auto mls = test_catalogue().approximations.create("mls", Params::parse("basis=2"));
+  const Eigen::MatrixXd points = Eigen::RowVectorXd::LinSpaced(97, 0, 1);
+  const ShapeTable values = mls->evaluate(p, points, 0);
+  const ShapeTable general = mls->evaluate(p, points, 1);
+  EXPECT_EQ(values.index, general.index);
+  EXPECT_EQ(values.value, general.value);
+}
+
 TEST(FastEvaluate, ThrowsTheLowestPointsErrorOnAnyThreadCount) {
   const auto mls = test_catalogue().approximations.create("mls");
   ParticleSet p;

@@ -36,8 +36,10 @@ void basis_at(int order, int dim, const double* xi, double* p) {
 }
 
 /// M += c p pᵀ, element by element as Eigen's outer product M += (c p) pᵀ does it (the
-/// scaled column first, then times p_j), without its dynamic-size dispatch per call.
-void add_outer(Eigen::MatrixXd& M, double c, const double* p) {
+/// scaled column first, then times p_j), without its dynamic-size dispatch per call. `Matrix`
+/// is square and column-major, of fixed or dynamic size.
+template <class Matrix>
+void add_outer(Matrix& M, double c, const double* p) {
   const Eigen::Index n = M.rows();
   double cp[10];  // the largest basis: quadratic in 3D (basis_size(2, 3))
   for (Eigen::Index i = 0; i < n; ++i) cp[i] = c * p[i];
@@ -187,12 +189,7 @@ struct CorrectedKernelApproximation::PointEvaluator {
     std::size_t k = 0;
     for (std::size_t m = 0; m < n0; ++m) {
       const int J = cand[m];
-      double dist2 = 0;
-      for (int d = 0; d < dim; ++d) {
-        const double dd = x[d] - particles.x(d, J);
-        sc.r[k * dim + d] = dd;
-        dist2 += dd * dd;
-      }
+      const double dist2 = offset_from(x, J, &sc.r[k * dim]);
       if (dist2 < reach2[J]) {
         sc.nbrs[k] = J;
         sc.s[k] = std::sqrt(dist2) / particles.dilation[J];
@@ -204,27 +201,23 @@ struct CorrectedKernelApproximation::PointEvaluator {
     return k;
   }
 
-  /// How many particles of `cand` support_of would keep: the same test, nothing stored (the
+  /// How many particles of `cand` support_of would keep: the same test, nothing kept (the
   /// first of evaluate_into's two passes only sizes the rows).
   std::size_t support_count(const double* x, std::span<const int> cand) const {
     std::size_t k = 0;
-    const double* X = particles.x.data();
-    if (dim == 2) {
-      for (const int J : cand) {
-        const double d0 = x[0] - X[2 * J], d1 = x[1] - X[2 * J + 1];
-        k += (d0 * d0 + d1 * d1) < reach2[J];
-      }
-      return k;
-    }
-    for (const int J : cand) {
-      double dist2 = 0;
-      for (int d = 0; d < dim; ++d) {
-        const double dd = x[d] - X[static_cast<std::size_t>(dim) * J + d];
-        dist2 += dd * dd;
-      }
-      k += dist2 < reach2[J];
-    }
+    double r[3];
+    for (const int J : cand) k += offset_from(x, J, r) < reach2[J];
     return k;
+  }
+
+  /// r = x − x_J into `r` (dim entries); returns |r|², summed in the order d = 0, 1, …
+  double offset_from(const double* x, int J, double* r) const {
+    double dist2 = 0;
+    for (int d = 0; d < dim; ++d) {
+      r[d] = x[d] - particles.x(d, J);
+      dist2 += r[d] * r[d];
+    }
+    return dist2;
   }
 
   void check_count(const double* x, std::size_t k) const {
@@ -266,31 +259,35 @@ struct CorrectedKernelApproximation::PointEvaluator {
     return true;
   }
 
-  /// The values of the 2D linear-basis row (KBM's MLS trial values, order 0) with fixed-size
-  /// matrices: the general path's arithmetic (the same basis, sums, LDLT and solve) without
-  /// the dynamic-size allocations per point. Returns false, leaving the row to the general
-  /// path, where the moment matrix is singular or ill-conditioned (that path then reports it or
-  /// falls back exactly as before).
-  bool linear_values_2d(PointScratch& sc, ShapeTable& t, int row0) const {
+  /// The basis at the support's particles into sc.P (nb × k), in coordinates centred on x and
+  /// scaled by amax (conditioning).
+  void basis_at_neighbours(PointScratch& sc) const {
     const std::size_t k = sc.nbrs.size();
-    const std::vector<double>&w = sc.w, &r = sc.r;
     Eigen::MatrixXd& P = sc.P;
-    P.resize(3, static_cast<Eigen::Index>(k));
-    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    P.resize(nb, static_cast<Eigen::Index>(k));
+    double xi[3];
     for (std::size_t m = 0; m < k; ++m) {
-      double* p = P.col(static_cast<Eigen::Index>(m)).data();
-      p[0] = 1;
-      p[1] = -r[m * 2] / amax;
-      p[2] = -r[m * 2 + 1] / amax;
-      const double cp[3] = {w[m] * p[0], w[m] * p[1], w[m] * p[2]};
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) M(i, j) += p[j] * cp[i];
+      for (int d = 0; d < dim; ++d) xi[d] = -sc.r[m * dim + d] / amax;
+      basis_at(a.options_.basis_order, dim, xi, P.col(static_cast<Eigen::Index>(m)).data());
     }
+  }
+
+  /// The values (order 0) of a three-term basis (linear in 2D: KBM's MLS trial values;
+  /// quadratic on a line) with a fixed-size moment matrix: the general path's arithmetic (the
+  /// same basis, sums, LDLT and solve) without its dynamic-size allocations per point. Returns
+  /// false, leaving the row to the general path, where the moment matrix is singular or
+  /// ill-conditioned (that path then reports it or falls back exactly as before).
+  bool three_term_values(PointScratch& sc, ShapeTable& t, int row0) const {
+    const std::size_t k = sc.nbrs.size();
+    basis_at_neighbours(sc);
+    const Eigen::MatrixXd& P = sc.P;
+    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    for (std::size_t m = 0; m < k; ++m) add_outer(M, sc.w[m], P.col(m).data());
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(M);
     if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-13)) return false;
     const Eigen::Vector3d gamma = ldlt.solve(Eigen::Vector3d::UnitX());
     for (std::size_t m = 0; m < k; ++m)
-      t.value[row0 + m] = gamma.dot(P.col(static_cast<Eigen::Index>(m))) * w[m];
+      t.value[row0 + m] = gamma.dot(P.col(static_cast<Eigen::Index>(m))) * sc.w[m];
     return true;
   }
 
@@ -405,18 +402,12 @@ struct CorrectedKernelApproximation::PointEvaluator {
     }
 
     if (nb == 1 && order <= 1 && !o.diffuse_derivative && shepard(sc, t, row0)) return false;
-    if (nb == 3 && order == 0 && linear_values_2d(sc, t, row0)) return false;
+    if (nb == 3 && order == 0 && three_term_values(sc, t, row0)) return false;
 
-    // Basis at the neighbours in coordinates centred on x and scaled by amax (conditioning).
-    Eigen::MatrixXd& P = sc.P;
+    basis_at_neighbours(sc);
+    const Eigen::MatrixXd& P = sc.P;
     Eigen::MatrixXd& M = sc.M;
-    P.resize(nb, static_cast<Eigen::Index>(k));
     M.resize(nb, nb);
-    double xi[3];
-    for (std::size_t m = 0; m < k; ++m) {
-      for (int d = 0; d < dim; ++d) xi[d] = -r[m * dim + d] / amax;
-      basis_at(o.basis_order, dim, xi, P.col(static_cast<Eigen::Index>(m)).data());
-    }
     M.setZero();
     for (std::size_t m = 0; m < k; ++m) add_outer(M, w[m], P.col(m).data());
     Eigen::LDLT<Eigen::MatrixXd>& ldlt = sc.ldlt;
