@@ -183,14 +183,17 @@ bool pid_alive(const std::string& pid) {
   return true;
 }
 
-/// A marker, or the temporary file write_file_atomic() writes a marker through
-/// (`<marker>.tmp-<pid>-<n>`): what a run killed while marking a directory leaves in it.
-bool is_marker_entry(const std::string& name) {
-  for (const char* marker : {kStagingMarker, kReportMarker}) {
-    const std::string m = marker;
-    if (name == m || name.rfind(m + ".tmp-", 0) == 0) return true;
-  }
+/// The temporary file write_file_atomic() writes a marker through (`<marker>.tmp-<pid>-<n>`):
+/// what a run killed while marking a directory leaves in it.
+bool is_marker_temp(const std::string& name) {
+  for (const char* marker : {kStagingMarker, kReportMarker})
+    if (name.rfind(std::string(marker) + ".tmp-", 0) == 0) return true;
   return false;
+}
+
+/// A marker or a marker's temporary file.
+bool is_marker_entry(const std::string& name) {
+  return name == kStagingMarker || name == kReportMarker || is_marker_temp(name);
 }
 
 /// Removes a staging or old directory of ours with its markers last, so that a run killed
@@ -378,15 +381,23 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
           continue;
         if (pid_alive(n.substr(prefix.size()))) continue;
         std::error_code ignored;
-        // Ours: it holds a marker, or nothing but a marker's temporary file (killed while
-        // marking it), or nothing at all.
-        bool only_marker_temps = true;
-        for (const auto& f : fs::directory_iterator(e.path(), ignored))
-          if (!is_marker_entry(f.path().filename().string())) only_marker_temps = false;
-        if (!ignored &&
-            (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
-             read_report_marker(e.path()) || only_marker_temps))
+        if (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
+            read_report_marker(e.path())) {
           remove_marked_last(e.path());
+          continue;
+        }
+        // Unmarked: ours only if it holds nothing but a marker's temporary file (a run killed
+        // while marking it) or nothing at all. Those files go one by one and the directory
+        // only if it is then empty, so nothing else is ever removed.
+        std::vector<fs::path> temps;
+        bool only_temps = true;
+        for (const auto& f : fs::directory_iterator(e.path(), ignored)) {
+          if (is_marker_temp(f.path().filename().string())) temps.push_back(f.path());
+          else only_temps = false;
+        }
+        if (ignored || !only_temps) continue;
+        for (const auto& f : temps) fs::remove(f, ignored);
+        fs::remove(e.path(), ignored);
       }
     }
   } catch (const fs::filesystem_error&) {

@@ -164,6 +164,8 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   // A marker's temporary name beside a file of the user's does not make the directory ours.
   test::write_text(dir.path() / ".run.staging-999993" / (std::string(kStagingMarker) + ".tmp-1-0"), "");
   test::write_text(dir.path() / ".run.staging-999993" / "data.csv", "a user's file");
+  // A file that only bears a marker's name, not its content, is not a marker.
+  test::write_text(dir.path() / ".run.staging-999992" / kReportMarker, "a user's notes");
   // Issue 26: names that only look like ours stay — no marker, or a live pid (1 is init).
   test::write_text(dir.path() / ".run.staging-999995" / "thesis.tex", "a user's directory");
   test::write_text(dir.path() / ".run.staging-1" / kStagingMarker, "mfv-staging 1\n");
@@ -173,9 +175,11 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   write_report(target, "new");
   EXPECT_EQ(names_in(dir.path()),
             (std::vector<std::string>{".other.staging-999997", ".run.staging-1",
-                                      ".run.staging-999993", ".run.staging-999995",
+                                      ".run.staging-999992", ".run.staging-999993",
+                                      ".run.staging-999995",
                                       ".run.staging-notes", "run"}));
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999993" / "data.csv"), "a user's file");
+  EXPECT_EQ(read_file(dir.path() / ".run.staging-999992" / kReportMarker), "a user's notes");
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999995" / "thesis.tex"), "a user's directory");
   // The staging marker never reaches the report.
   EXPECT_FALSE(fs::exists(target / kStagingMarker));
