@@ -23,6 +23,11 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "off: each point's own det F; patch: F-bar, the volume change of each "
                         "particle's patch at every point (dynamics/explicit.hpp VolumeAverage; "
                         "native engine)"),
+      ParamSpec::choice("wall_traction", "off", {"off", "weak"},
+                        "off: the problem's walls act as forces at the particles only; weak: "
+                        "also as the weak form's boundary term at the walls, through the test "
+                        "functions (dynamics/explicit.hpp WallTraction; weak-form methods, "
+                        "problems with rigid walls, native engine)"),
       ParamSpec::choice("centres", "coefficients", {"coefficients", "interpolated"},
                         "Eulerian kernel: supports centred at X + the particles' unknowns, or "
                         "at X + the trial field at the particles (their material positions; "
@@ -77,6 +82,7 @@ DynamicsOptions dynamics_options(const Params& p) {
   o.update_every = p.integer("update_every");
   o.volume_average = volume_average_from(p.text("volume_average"));
   o.kernel_centres = kernel_centres_from(p.text("centres"));
+  o.wall_traction = wall_traction_from(p.text("wall_traction"));
   o.neighbour_skin = p.number("skin");
   if (!(o.neighbour_skin >= 0 && o.neighbour_skin <= 10))
     throw InputError(fmt::format("skin = {} must be in [0, 10] (spacings); 0.3 is the default, "

@@ -239,6 +239,14 @@ ParticleOrder particle_order_from(const std::string& name) {
                                name));
 }
 
+WallTraction wall_traction_from(const std::string& name) {
+  if (name == "off") return WallTraction::off;
+  if (name == "weak") return WallTraction::weak;
+  throw InputError(fmt::format("unknown wall traction '{}'; valid: off (the problem's particle "
+                               "forces only), weak (the walls' boundary term of the weak form)",
+                               name));
+}
+
 VolumeAverage volume_average_from(const std::string& name) {
   if (name == "off") return VolumeAverage::off;
   if (name == "patch") return VolumeAverage::patch;
@@ -351,6 +359,19 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
                        "kernel, whose tables are built once; use reorder=none with "
                        "frame=eulerian");
     renumber_along_hilbert_curve();
+  }
+  if (opt_.wall_traction == WallTraction::weak) {
+    const char* why = model_.rigid_walls.empty() || !model_.wall_forces
+                          ? "this problem has no rigid walls"
+                      : dim_ != 2                ? "it is written for 2D models"
+                      : d_.enriched_unknowns > 0 ? "enrichment unknowns have no wall term"
+                      : opt_.order != ParticleOrder::as_given
+                          ? "it needs the given particle order (reorder=none)"
+                          : nullptr;
+    if (why)
+      throw InputError(fmt::format("wall_traction=weak is not available here: {}; use "
+                                   "wall_traction=off",
+                                   why));
   }
   const int dd = dim_ * dim_;
   F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
@@ -628,10 +649,23 @@ void add_field_at(const ShapeTable& t, int dim, const Eigen::VectorXd& u, int I,
 void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
   f.setZero(dim_ * n_);
   if (model_.external_force) model_.external_force(t, f);
-  if (model_.particle_forces) {
+  if (model_.particle_forces || model_.wall_forces) {
     Eigen::MatrixXd& fp = particle_force_;
     fp.setZero(dim_, n_);
-    model_.particle_forces(t, particle_positions(), fp);
+    const Eigen::MatrixXd x = particle_positions();
+    if (model_.particle_forces) model_.particle_forces(t, x, fp);
+    if (model_.wall_forces) {
+      // Particle-value methods: the test functions are δ at the particles, so the boundary
+      // term's nodal rule is the force at the particle itself (WallTraction::off's sums).
+      if (opt_.wall_traction == WallTraction::weak && !d_.particle_values) {
+        Eigen::MatrixXd& fw = wall_force_;
+        fw.setZero(dim_, n_);
+        model_.wall_forces(t, x, fw);
+        add_wall_tractions(x, fw, f);
+      } else {
+        model_.wall_forces(t, x, fp);
+      }
+    }
     if (d_.particle_values) {
       f += Eigen::Map<const Eigen::VectorXd>(fp.data(), fp.size());
     } else {
@@ -657,6 +691,59 @@ void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
       const ShapeTable& tv = values_at_particles_;
       for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
         f.segment<2>(2 * tv.index[e]) += tv.value[e] * force;
+    }
+  }
+}
+
+void ExplicitDynamics::add_wall_tractions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& fw,
+                                          Eigen::VectorXd& f) const {
+  // The feet: each pushed particle's nearest point on the walls, in the configuration the
+  // functions live in (the particles' current positions for the Eulerian kernel, whose
+  // centres are there; the reference ones for the Lagrangian kernel).
+  const Eigen::MatrixXd& at = opt_.frame == KernelFrame::eulerian ? x : X_;
+  std::vector<int> pushed;
+  for (int K = 0; K < n_; ++K)
+    if (fw(0, K) != 0 || fw(1, K) != 0) pushed.push_back(K);
+  if (pushed.empty()) return;
+  Eigen::MatrixXd feet(2, static_cast<Eigen::Index>(pushed.size()));
+  for (std::size_t k = 0; k < pushed.size(); ++k) {
+    const Eigen::Vector2d p = at.col(pushed[k]);
+    double best = std::numeric_limits<double>::infinity();
+    for (const RigidWall& w : model_.rigid_walls) {
+      const Eigen::Vector2d ab = w.b - w.a;
+      const double s = std::clamp((p - w.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d foot = w.a + s * ab;
+      if ((p - foot).squaredNorm() < best) {
+        best = (p - foot).squaredNorm();
+        feet.col(k) = foot;
+      }
+    }
+  }
+  const Approximation& force =
+      opt_.force == ForceForm::variational || !d_.test ? *d_.trial : *d_.test;
+  auto at_particle = [&](int K) {  // the force at the particle, as WallTraction::off
+    const ShapeTable& tv = values_at_particles_;
+    for (int e = tv.offsets[K]; e < tv.offsets[K + 1]; ++e)
+      f.segment<2>(2 * tv.index[e]) += tv.value[e] * fw.col(K);
+  };
+  auto add = [&](const ShapeTable& t, int row, int K) {
+    if (t.offsets[row] == t.offsets[row + 1]) return at_particle(K);  // no support reaches it
+    for (int e = t.offsets[row]; e < t.offsets[row + 1]; ++e)
+      f.segment<2>(2 * t.index[e]) += t.value[e] * fw.col(K);
+  };
+  try {
+    const ShapeTable t = force.evaluate(d_.particles, feet, 0);
+    for (std::size_t k = 0; k < pushed.size(); ++k) add(t, static_cast<int>(k), pushed[k]);
+  } catch (const SingularError&) {
+    // A foot at the material's edge (a splash, a corner) whose support is too small for the
+    // correction: that particle's force stays at the particle.
+    for (std::size_t k = 0; k < pushed.size(); ++k) {
+      try {
+        const ShapeTable t = force.evaluate(d_.particles, feet.col(k), 0);
+        add(t, 0, pushed[k]);
+      } catch (const SingularError&) {
+        at_particle(pushed[k]);
+      }
     }
   }
 }

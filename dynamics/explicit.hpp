@@ -125,8 +125,38 @@ enum class KernelCentres {
   interpolated
 };
 
+/// How the forces of the model's rigid walls (DynamicsModel::wall_forces) reach the unknowns
+/// (issue 27). A weak form integrates ∫_Ω σ : ∇N^test_I dΩ over the material and so owes every
+/// unknown whose test function reaches a wall the boundary term
+///   f_I^wall = ∫_Γwall N^test_I t dΓ    (t the wall's contact traction)
+/// (the principle of virtual work). A penalty force R_K at particle K near a wall is the
+/// wall's traction over that particle's stretch of wall; carried to the unknowns as a force
+/// at the particle, Σ_K N_I(X_K) R_K, it reaches the unknowns of the particles near K, while
+/// the boundary term reaches every unknown whose test function covers the wall, d_max rows
+/// deep: the rows between are left pressed towards the wall by a force no wall holds, and a
+/// fluid, which has no shear stiffness to carry it, moves.
+enum class WallTraction {
+  off,  ///< R_K as a force at particle K (default: every existing result bit for bit)
+  /// R_K as the traction at K's foot on the nearest wall, x_K^wall (the wall's boundary term
+  /// by the nodal rule of the particles along the wall):
+  ///   f_I += N^test_I(x_K^wall) R_K,
+  /// N^test the functions the internal force sums (test or trial, ForceForm), evaluated at
+  /// the current positions (Eulerian kernel) or the reference ones (Lagrangian). A foot
+  /// whose support is too small for the approximation keeps the force at the particle.
+  /// Methods with particle-value unknowns (sph, rlm) collocate at the particles: their test
+  /// functions are δ at the particles, so the boundary term's nodal rule is the force at the
+  /// particle, and `weak` changes nothing there. Native engine, 2D, given particle order.
+  /// Tried first and dropped: the traction t = (n·σ·n) n read from the material's own stress
+  /// at the wall (the stress extrapolated by the trial functions); it balances a hydrostatic
+  /// state exactly, but a wall that pushes with whatever stress the material has offers no
+  /// stiffness of its own, and the kbm-si column blew up within 2 sound crossings at any step.
+  weak
+};
+WallTraction wall_traction_from(const std::string& name);
+
 struct DynamicsOptions {
   KernelFrame frame = KernelFrame::lagrangian;
+  WallTraction wall_traction = WallTraction::off;
   KernelCentres kernel_centres = KernelCentres::coefficients;
   VolumeAverage volume_average = VolumeAverage::off;
   int update_every = 1;  ///< Eulerian: steps between recomputations of the tables
@@ -166,6 +196,11 @@ struct FollowerPressure {
   std::function<double(double t)> pressure;  ///< p(t), positive pushing into the material
 };
 
+/// A rigid frictionless wall, the segment a–b (2D), for WallTraction::weak.
+struct RigidWall {
+  Eigen::Vector2d a, b;
+};
+
 /// What a problem supplies besides the discretization.
 struct DynamicsModel {
   std::shared_ptr<const Material> material;
@@ -191,6 +226,11 @@ struct DynamicsModel {
   /// particles, a splash or a jet breaking up) the method falls back to its uncorrected
   /// kernel instead of failing (Retabulation::degenerate_fallback); counted in the counters.
   bool degenerate_fallback = false;
+  /// Forces of rigid walls on the particles where they are now (penalty walls), as
+  /// particle_forces; WallTraction says how they reach the unknowns. Optional.
+  std::function<void(double t, const Eigen::MatrixXd& x, Eigen::MatrixXd& f)> wall_forces;
+  /// The walls of wall_forces (WallTraction::weak finds each particle's foot on them).
+  std::vector<RigidWall> rigid_walls;
 };
 
 /// How the particle masses are allocated (001 §6).
@@ -312,6 +352,10 @@ class ExplicitDynamics {
   void adapt_supports();
   void retabulate();
   void external_force(double t, Eigen::VectorXd& f) const;
+  /// WallTraction::weak: the wall forces fw (dim × N) at the particles x carried to f through
+  /// the force functions at the particles' feet on the walls.
+  void add_wall_tractions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& fw,
+                          Eigen::VectorXd& f) const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
 
   const Method& method_;
@@ -352,6 +396,7 @@ class ExplicitDynamics {
   mutable std::vector<double> F_, stress_, state_, scratch_F_;
   std::vector<double> committed_F_;
   mutable std::vector<int> nearest_point_;
+  mutable Eigen::MatrixXd wall_force_;  ///< scratch of model_.wall_forces (WallTraction::weak)
   mutable Eigen::MatrixXd particle_force_;  ///< scratch of model_.particle_forces  ///< particle_points(), found on the first call
 };
 

@@ -305,12 +305,14 @@ PetscDynamics::PetscDynamics(const Method& method, Discretization d, DynamicsMod
                              "engine runs the total-Lagrangian step");
   if (options.volume_average != VolumeAverage::off)
     refuse("volume_average=patch", "it needs every point's F before any stress");
+  if (options.wall_traction != WallTraction::off)
+    refuse("wall_traction=weak", "it reads the stresses at the particles' points on every rank");
   if (options.order != ParticleOrder::as_given)
     refuse("reorder=hilbert", "the ranks own contiguous blocks of the given numbering");
   if (!model.follower_pressures.empty())
     refuse("follower pressures", "they need the current positions of the loaded surface every "
                                  "step");
-  if (model.particle_forces)
+  if (model.particle_forces || model.wall_forces)
     refuse("particle forces", "they need the current positions of every particle every step");
   petsc::ensure_initialized();
   impl_ = std::make_unique<Impl>(method, std::move(d), std::move(model), options);

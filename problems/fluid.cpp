@@ -95,11 +95,15 @@ DynamicsModel water_model(const Discretization& d, const MaterialRegistry& mater
                                              std::pow(w.sound_speed() / dx, 2));
   const Eigen::VectorXd mass = model.mass;
   const double g = w.g;
-  model.particle_forces = [walls, mass, g](double, const Eigen::MatrixXd& x, Eigen::MatrixXd& f) {
+  model.particle_forces = [mass, g](double, const Eigen::MatrixXd&, Eigen::MatrixXd& f) {
     f.row(1).array() -= g * mass.transpose().array();
+  };
+  // Added into the same forces after gravity (WallTraction::off: the sums as before).
+  model.wall_forces = [walls, mass](double, const Eigen::MatrixXd& x, Eigen::MatrixXd& f) {
     walls->add_forces(x, mass, f);
   };
   model.degenerate_fallback = true;
+  for (const Wall& wall : setup.walls) model.rigid_walls.push_back({wall.a, wall.b});
   return model;
 }
 
