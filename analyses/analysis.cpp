@@ -131,7 +131,7 @@ Params resolved_case_params(const Registries& plugins, const std::string& proble
 Discretization discretize_case(const ParticleProblem& problem, const AnalysisContext& c,
                                CaseResult& r) {
   const double t0 = cpu_seconds();
-  const Domain domain = problem.domain();
+  const Domain domain = problem.discretized_domain(c.spec.nodes);
   ParticleSet particles = problem.particles(c.spec.nodes, c.spec.perturbation);
   Discretization d =
       c.method.discretize(domain, std::move(particles), problem.derivative_order());

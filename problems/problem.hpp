@@ -143,6 +143,13 @@ class ParticleProblem : public Problem {
   /// The particles of resolution `nodes` (1D: nodes on the line; 2D problems say what it
   /// counts), perturbed by `perturbation` of the spacing.
   virtual ParticleSet particles(int nodes, double perturbation) const;
+  /// The domain the method discretizes at resolution `nodes`: domain() unless the particle
+  /// set reaches beyond it by a number of spacings (the hydrostatic column's layers of wall
+  /// particles around its water), which cut cells and Voronoi volumes need to contain.
+  virtual Domain discretized_domain(int nodes) const {
+    (void)nodes;
+    return domain();
+  }
 };
 
 /// A static boundary value problem, run by the `static-solve` analysis: its weak form
