@@ -92,7 +92,44 @@ class DamBreak final : public TransientProblem {
       throw InputError(fmt::format("dam-break: {} particles across the column is outside "
                                    "[4, 2000]; give e.g. 20",
                                    nodes));
-    return rectangle_lattice(domain(), nodes, 2 * nodes, Placement::inset, perturbation);
+    ParticleSet water = rectangle_lattice(domain(), nodes, 2 * nodes, Placement::inset,
+                                          perturbation);
+    if (p_.text("walls") != "particles") return water;
+    // Dummy wall particles on the same spacing, appended after the water (so the water keeps
+    // its indices): `layers` rows under the tank's floor from the left wall's outer layer to
+    // the right wall's, and `layers` columns beside the tank up to 1.5 times the column's
+    // height.
+    const double dx = a() / nodes;
+    const int layers = p_.integer("wall_layers"), M = tank_cells(nodes), up = 3 * nodes;
+    std::vector<Eigen::Vector2d> wall;
+    for (int k = 0; k < layers; ++k)
+      for (int i = -layers; i < M + layers; ++i) wall.emplace_back((i + 0.5) * dx, -(k + 0.5) * dx);
+    for (int j = 0; j < up; ++j)
+      for (int k = 0; k < layers; ++k) {
+        wall.emplace_back(-(k + 0.5) * dx, (j + 0.5) * dx);
+        wall.emplace_back((M + k + 0.5) * dx, (j + 0.5) * dx);
+      }
+    const int nw = water.size(), n = nw + static_cast<int>(wall.size());
+    ParticleSet ps = water;
+    ps.x.conservativeResize(2, n);
+    ps.volume.conservativeResize(n);
+    for (int k = nw; k < n; ++k) {
+      ps.x.col(k) = wall[k - nw];
+      ps.volume[k] = dx * dx;
+    }
+    // The methods set the dilations (prepare()); every per-particle vector has n entries.
+    ps.dilation = Eigen::VectorXd::Constant(n, ps.dilation.size() > 0 ? ps.dilation[0] : dx);
+    if (ps.local_spacing.size() > 0) ps.local_spacing = Eigen::VectorXd::Constant(n, dx);
+    ps.sides.resize(n, 0u);
+    // No longer one lattice: lattice-cell rules (stress points, Gauss cells) refuse the set.
+    ps.lattice = Eigen::Vector2i::Zero();
+    return ps;
+  }
+
+  Domain discretized_domain(int nodes) const override {
+    if (p_.text("walls") != "particles") return domain();
+    const double dx = a() / nodes, e = p_.integer("wall_layers") * dx;
+    return Domain::rectangle(-e, -e, tank_cells(nodes) * dx + e, 3 * a());
   }
 
   TransientDefinition define(const Discretization& d, const TransientInputs& in) const override;
@@ -107,6 +144,9 @@ class DamBreak final : public TransientProblem {
  private:
   double a() const { return p_.number("width"); }
   double tank() const { return p_.number("tank") * a(); }
+  /// walls=particles: the tank's length in whole spacings (the right wall's particles stand
+  /// on the lattice: the tank is tank_cells Δx long, tank a to half a spacing).
+  int tank_cells(int nodes) const { return static_cast<int>(std::lround(p_.number("tank") * nodes)); }
   /// T = t √(2g/a) → t.
   double time_of(double T) const { return T / std::sqrt(2 * fluid::Water{}.g / a()); }
 
@@ -117,14 +157,26 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
   const ParticleSet& ps = d.particles;
   const int n = ps.size();
   const double dx = ps.spacing, A = a(), L = tank();
+  // The water's particles come first; walls=particles appends the wall's (particles()).
+  const int nodes = static_cast<int>(std::lround(A / dx));
+  const bool wall_particles = p_.text("walls") == "particles";
+  const int nw = wall_particles ? 2 * nodes * nodes : n;
+  // The floor and left-wall bands of the front and height measures: one spacing, or three
+  // over dummy wall particles, whose pressure holds a moving front 1.3-1.9 spacings above the
+  // floor (measured with sph at T = 0.5-2; the water at rest keeps its half spacing).
+  const double band = wall_particles ? 3 * dx : dx;
   fluid::Setup setup;
   setup.surface = 2 * A;
   // Left wall and floor of the tank, the right wall at `tank` a; the walls are twice the
   // column's height (the run-up at the right wall, if the run is long enough to reach it,
   // stays below).
-  setup.walls = {{{0, 0}, {L, 0}}, {{0, 0}, {0, 4 * A}}, {{L, 0}, {L, 4 * A}}};
+  if (!wall_particles) setup.walls = {{{0, 0}, {L, 0}}, {{0, 0}, {0, 4 * A}}, {{L, 0}, {L, 4 * A}}};
   TransientDefinition def;
   def.model = fluid::water_model(d, in.materials, setup);
+  // Dummy wall particles (as hydrostatic-column's walls=particles): held still, water
+  // otherwise (hydrostatic density continued below the floor).
+  for (int I = nw; I < n; ++I)
+    for (int c = 0; c < 2; ++c) def.model.prescribed.push_back({I, c, 0.0});
   const fluid::Water water = setup.water;
   const double scale = std::sqrt(2 * water.g / A);  // T = t · scale
   def.end_time = time_of(p_.number("end_T"));
@@ -137,10 +189,10 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
   const double ritter = 2 * std::sqrt(water.g * 2 * A);  // m/s
   // The kinetic-energy budget starts from the elastic energy of the hydrostatic column: the
   // release turns it into motion before any potential energy has been released.
-  Eigen::VectorXd p0(n);
-  for (int I = 0; I < n; ++I) p0[I] = water.rho0 * water.g * (2 * A - ps.x(1, I));
+  Eigen::VectorXd p0(nw);
+  for (int I = 0; I < nw; ++I) p0[I] = water.rho0 * water.g * (2 * A - ps.x(1, I));
   const fluid::Limits limits{5 * std::sqrt(2 * water.g * 2 * A), 2,
-                             fluid::stored_energy(ps.volume, p0, water)};
+                             fluid::stored_energy(ps.volume.head(nw), p0, water)};
   const double history_every = def.end_time / kHistory, sample_every = def.end_time / kSamples;
 
   struct Track {
@@ -152,17 +204,17 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
   auto track = std::make_shared<Track>();
   track->watch = std::make_unique<fluid::Watch>(mass, water.g, pe0, limits);
   auto record = [=](const ExplicitDynamics& sim) {
-    const Eigen::MatrixXd x = sim.particle_positions();
+    const Eigen::MatrixXd x = sim.particle_positions().leftCols(nw);
     if (!x.allFinite()) return;
     track->T.push_back(sim.time() * scale);
-    track->Z.push_back(fluid::surge_front(x, dx) / A);
-    track->H.push_back(fluid::column_height(x, dx) / A);
+    track->Z.push_back(fluid::surge_front(x, dx, band) / A);
+    track->H.push_back(fluid::column_height(x, dx, band) / A);
   };
   def.probe_names = {"T = t sqrt(2g/a)", "front Z/a", "height H/a"};
   def.probes = [=](const ExplicitDynamics& sim) {
-    const Eigen::MatrixXd x = sim.particle_positions();
-    return std::vector<double>{sim.time() * scale, fluid::surge_front(x, dx) / A,
-                               fluid::column_height(x, dx) / A};
+    const Eigen::MatrixXd x = sim.particle_positions().leftCols(nw);
+    return std::vector<double>{sim.time() * scale, fluid::surge_front(x, dx, band) / A,
+                               fluid::column_height(x, dx, band) / A};
   };
   def.unstable = [=](const ExplicitDynamics& sim) {
     std::string why = track->watch->check(sim);
@@ -179,8 +231,8 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
       if (track->T.empty()) {
         // t = 0: the lattice as released.
         track->T.push_back(0);
-        track->Z.push_back(fluid::surge_front(ps.x, dx) / A);
-        track->H.push_back(fluid::column_height(ps.x, dx) / A);
+        track->Z.push_back(fluid::surge_front(ps.x.leftCols(nw), dx, band) / A);
+        track->H.push_back(fluid::column_height(ps.x.leftCols(nw), dx, band) / A);
       }
       track->next_history += history_every;
       record(sim);
@@ -239,6 +291,7 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     m.headline["min neighbours"] = sim.min_neighbours();
     m.headline["degenerate points (peak)"] = sim.counters().degenerate_peak;
     m.headline["particles"] = n;
+    m.headline["wall particles"] = n - nw;
 
     const std::string who = frame + " kernel";
     m.profiles.push_back({"surge front against Martin & Moyce (1952), n² = 2",
@@ -420,7 +473,16 @@ void register_dam_break(ProblemRegistry& r) {
          capped(ParamSpec::positive("end_T", 3.33,
                                     "end time in T = t sqrt(2g/a) (default: the last data "
                                     "point), at most 20"),
-                20)},
+                20),
+         ParamSpec::choice("walls", "penalty", {"penalty", "particles"},
+                           "penalty: frictionless penalty walls (problems/fluid.hpp); "
+                           "particles: wall_layers layers of dummy wall particles held still "
+                           "under the floor and beside the tank (Crespo et al. 2007; an "
+                           "unstructured set: methods integrating on lattice cells or stress "
+                           "points refuse it)"),
+         capped(ParamSpec::count("wall_layers", 3, 1,
+                                 "walls=particles: layers of wall particles (at most 10)"),
+                10)},
         [](const Params& p) { return std::make_unique<DamBreak>(p); });
 }
 

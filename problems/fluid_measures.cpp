@@ -23,17 +23,19 @@ double hydrostatic_pressure_error(const Eigen::MatrixXd& x, const Eigen::VectorX
   return den > 0 ? std::sqrt(num / den) : std::numeric_limits<double>::quiet_NaN();
 }
 
-double surge_front(const Eigen::MatrixXd& x, double spacing) {
+double surge_front(const Eigen::MatrixXd& x, double spacing, double band) {
+  if (band <= 0) band = spacing;
   double front = -std::numeric_limits<double>::infinity();
   for (Eigen::Index I = 0; I < x.cols(); ++I)
-    if (x(1, I) < spacing) front = std::max(front, x(0, I));
+    if (x(1, I) < band) front = std::max(front, x(0, I));
   return std::isfinite(front) ? front + 0.5 * spacing : std::numeric_limits<double>::quiet_NaN();
 }
 
-double column_height(const Eigen::MatrixXd& x, double spacing) {
+double column_height(const Eigen::MatrixXd& x, double spacing, double band) {
+  if (band <= 0) band = spacing;
   double top = -std::numeric_limits<double>::infinity();
   for (Eigen::Index I = 0; I < x.cols(); ++I)
-    if (x(0, I) < spacing) top = std::max(top, x(1, I));
+    if (x(0, I) < band) top = std::max(top, x(1, I));
   return std::isfinite(top) ? top + 0.5 * spacing : std::numeric_limits<double>::quiet_NaN();
 }
 

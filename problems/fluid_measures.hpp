@@ -23,13 +23,15 @@ double hydrostatic_pressure_error(const Eigen::MatrixXd& x, const Eigen::VectorX
                                   double g, double surface);
 
 /// The surge front: the largest x of the particles touching the floor y = 0 (current y below
-/// one spacing: the bottom row stands half a spacing above it), plus half a spacing, the
-/// particle's own share of the lattice. NaN when no particle touches the floor.
-double surge_front(const Eigen::MatrixXd& x, double spacing);
+/// `band`, one spacing by default: the bottom row stands half a spacing above it), plus half a
+/// spacing, the particle's own share of the lattice. NaN when no particle touches the floor.
+/// Dummy wall particles hold a moving front further off (the dam break's walls=particles:
+/// 1.3-1.9 spacings measured, Crespo et al. 2007's gap), so that run passes a wider band.
+double surge_front(const Eigen::MatrixXd& x, double spacing, double band = 0);
 
-/// The residual column height at the left wall x = 0: the largest y of the particles within one
-/// spacing of the wall, plus half a spacing. NaN when no particle is there.
-double column_height(const Eigen::MatrixXd& x, double spacing);
+/// The residual column height at the left wall x = 0: the largest y of the particles within
+/// `band` of the wall (0: one spacing), plus half a spacing. NaN when no particle is there.
+double column_height(const Eigen::MatrixXd& x, double spacing, double band = 0);
 
 /// One digitization of an experiment: points (t_k, value_k), t increasing.
 struct ExperimentSeries {
