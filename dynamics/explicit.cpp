@@ -360,6 +360,13 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
                        "frame=eulerian");
     renumber_along_hilbert_curve();
   }
+  for (int q : model_.tensionless_points)
+    if (q < 0 || q >= nq_)
+      throw InputError(fmt::format("tensionless point {} is outside the {} integration points",
+                                   q, nq_));
+  if (!model_.tensionless_points.empty() && opt_.order != ParticleOrder::as_given)
+    throw InputError("tensionless points (wall particles) need the given particle order "
+                     "(reorder=none)");
   if (opt_.wall_traction == WallTraction::weak) {
     const char* why = model_.rigid_walls.empty() || !model_.wall_forces
                           ? "this problem has no rigid walls"
@@ -586,6 +593,7 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
       for (int q = q0; q < q1; ++q)
         k.finish(Fs + DD * q, stress_.data() + DD * q, viscosity ? L.data() + DD * q : nullptr);
     }
+    release_tension();
     gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
                      f.data(), opt_.threads);
     return;
@@ -593,8 +601,31 @@ void ExplicitDynamics::forces(const Eigen::VectorXd& u, const Eigen::VectorXd& d
   compute_points<D>(k, *model_.material, nq_, u.data(), du.data(), committed_F_.data(), F,
                     stress_.data(), state, model_.material->state_size(dim_), viscosity,
                     opt_.threads);
+  release_tension();
   gather_forces<D>(n_, tt_offsets_.data(), tt_point_.data(), tt_grad_.data(), stress_.data(),
                    f.data(), opt_.threads);
+}
+
+void ExplicitDynamics::release_tension() const {
+  // The stress the force sums (P, or τ = J σ in the Eulerian frame): its trace has σ's sign
+  // (J > 0; P Fᵀ = J σ), so dropping the isotropic part of a pulling one leaves no tension.
+  const int dd = dim_ * dim_;
+  for (int q : model_.tensionless_points) {
+    double* S = stress_.data() + dd * q;
+    if (opt_.frame == KernelFrame::eulerian) {
+      double trace = 0;
+      for (int i = 0; i < dim_; ++i) trace += S[i * (dim_ + 1)];
+      if (!(trace > 0)) continue;
+      for (int i = 0; i < dim_; ++i) S[i * (dim_ + 1)] -= trace / dim_;
+    } else {
+      // P = J σ F⁻ᵀ: remove J (tr σ / D) F⁻ᵀ, J tr σ = tr(P Fᵀ).
+      Eigen::Map<Eigen::MatrixXd> P(S, dim_, dim_);
+      const Eigen::Map<const Eigen::MatrixXd> F(F_.data() + dd * q, dim_, dim_);
+      const double j_trace = (P * F.transpose()).trace();
+      if (!(j_trace > 0)) continue;
+      P -= (j_trace / dim_) * F.inverse().transpose();
+    }
+  }
 }
 
 const ShapeTable& ExplicitDynamics::volume_table() const {

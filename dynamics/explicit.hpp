@@ -226,6 +226,13 @@ struct DynamicsModel {
   /// particles, a splash or a jet breaking up) the method falls back to its uncorrected
   /// kernel instead of failing (Retabulation::degenerate_fallback); counted in the counters.
   bool degenerate_fallback = false;
+  /// Integration points that carry no tension: their stress's isotropic part is dropped
+  /// whenever it pulls (tr σ > 0), after the material. Dummy wall particles of a fluid
+  /// (problems' walls=particles), whose density falls as water leaves them: with tension they
+  /// hold a film of water on the wall (Hughes & Graham 2010, "Comparison of incompressible and
+  /// weakly-compressible SPH models for free-surface water flows", J. Hydraulic Res. 48, 105-117,
+  /// keep wall densities at or above ρ0 for the same reason). Empty: none (default).
+  std::vector<int> tensionless_points;
   /// Forces of rigid walls on the particles where they are now (penalty walls), as
   /// particle_forces; WallTraction says how they reach the unknowns. Optional.
   std::function<void(double t, const Eigen::MatrixXd& x, Eigen::MatrixXd& f)> wall_forces;
@@ -356,6 +363,8 @@ class ExplicitDynamics {
   /// the force functions at the particles' feet on the walls.
   void add_wall_tractions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& fw,
                           Eigen::VectorXd& f) const;
+  /// DynamicsModel::tensionless_points: their stresses' pulling isotropic parts dropped.
+  void release_tension() const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
 
   const Method& method_;

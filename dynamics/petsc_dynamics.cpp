@@ -305,6 +305,8 @@ PetscDynamics::PetscDynamics(const Method& method, Discretization d, DynamicsMod
                              "engine runs the total-Lagrangian step");
   if (options.volume_average != VolumeAverage::off)
     refuse("volume_average=patch", "it needs every point's F before any stress");
+  if (!model.tensionless_points.empty())
+    refuse("tensionless points (wall particles)", "the ranks own their points' stresses");
   if (options.wall_traction != WallTraction::off)
     refuse("wall_traction=weak", "it reads the stresses at the particles' points on every rank");
   if (options.order != ParticleOrder::as_given)

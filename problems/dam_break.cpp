@@ -177,6 +177,15 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
   // otherwise (hydrostatic density continued below the floor).
   for (int I = nw; I < n; ++I)
     for (int c = 0; c < 2; ++c) def.model.prescribed.push_back({I, c, 0.0});
+  // Their points (the nodal rule's: the particles themselves) carry no tension: a wall does not
+  // pull water (DynamicsModel::tensionless_points; with tension a film of water clung to the
+  // left wall's particles up to the column's first height).
+  if (wall_particles) {
+    if (d.quadrature.nodal_points < n)
+      throw InputError("dam-break walls=particles needs a method integrating at the particles "
+                       "(a nodal rule: sph, rlm, kbm-ni, efg-ni)");
+    for (int I = nw; I < n; ++I) def.model.tensionless_points.push_back(I);
+  }
   const fluid::Water water = setup.water;
   const double scale = std::sqrt(2 * water.g / A);  // T = t · scale
   def.end_time = time_of(p_.number("end_T"));
@@ -203,6 +212,11 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
   };
   auto track = std::make_shared<Track>();
   track->watch = std::make_unique<fluid::Watch>(mass, water.g, pe0, limits);
+  if (wall_particles) {  // the density range of the water (the nodal rule: its particles)
+    std::vector<int> water_points(nw);
+    for (int I = 0; I < nw; ++I) water_points[I] = I;
+    track->watch->watch_density_at(std::move(water_points));
+  }
   auto record = [=](const ExplicitDynamics& sim) {
     const Eigen::MatrixXd x = sim.particle_positions().leftCols(nw);
     if (!x.allFinite()) return;

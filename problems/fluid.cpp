@@ -161,7 +161,12 @@ void Watch::sample(const ExplicitDynamics& sim) {
   s.external_work = e.external_work;
   s.balance = e.balance();
   s.max_speed = v.cols() ? v.colwise().norm().maxCoeff() : 0.0;
-  const Eigen::VectorXd rho = sim.point_state("density");
+  Eigen::VectorXd rho = sim.point_state("density");
+  if (!water_points_.empty() && rho.size() > 0) {
+    Eigen::VectorXd water(static_cast<Eigen::Index>(water_points_.size()));
+    for (std::size_t k = 0; k < water_points_.size(); ++k) water[k] = rho[water_points_[k]];
+    rho = std::move(water);
+  }
   s.density_min = rho.size() ? rho.minCoeff() : std::numeric_limits<double>::quiet_NaN();
   s.density_max = rho.size() ? rho.maxCoeff() : std::numeric_limits<double>::quiet_NaN();
   released_ = std::max(released_, potential0_ - s.potential);

@@ -135,6 +135,9 @@ class Watch {
   /// without samples or without the density slot).
   double max_density_deviation(double rho0) const;
   double released_energy() const { return released_; }
+  /// The density range reads only these integration points (the water's, where wall
+  /// particles are part of the set); empty: every point.
+  void watch_density_at(std::vector<int> points) { water_points_ = std::move(points); }
 
  private:
   Eigen::VectorXd mass_;
@@ -142,6 +145,7 @@ class Watch {
   Limits limits_;
   double released_ = 0;
   std::vector<Sample> samples_;
+  std::vector<int> water_points_;
 };
 
 }  // namespace mfv::fluid

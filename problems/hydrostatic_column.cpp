@@ -171,6 +171,10 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
     for (int I = 0; I < n; ++I)
       if (!in_water(ps.x.col(I)))
         for (int c = 0; c < 2; ++c) def.model.prescribed.push_back({I, c, 0.0});
+    // Their points carry no tension (a wall does not pull water; DynamicsModel).
+    for (Eigen::Index q = 0; q < d.quadrature.points.cols(); ++q)
+      if (!in_water(d.quadrature.points.col(q)))
+        def.model.tensionless_points.push_back(static_cast<int>(q));
   }
   const fluid::Water water = setup.water;
   const double c0 = water.sound_speed(), crossing = H / c0;
@@ -222,6 +226,7 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
     return out;
   };
   track->pressure_sum = Eigen::VectorXd::Zero(nq);
+  if (wall_particles) track->watch->watch_density_at(water_points);
 
   def.probe_names = {"kinetic energy / MgH", "max speed (m/s)"};
   def.probes = [=](const ExplicitDynamics& sim) {
