@@ -713,17 +713,20 @@ void ExplicitDynamics::external_force(double t, Eigen::VectorXd& f) const {
     const int m = static_cast<int>(fp.loop.size());
     for (int k = 0; k < m; ++k) {
       const Eigen::Vector2d d = x.col((k + 1) % m) - x.col((k + m - 1) % m);
-      const Eigen::Vector2d force = 0.5 * p * Eigen::Vector2d(d.y(), -d.x());
-      const int I = fp.loop[k];
-      if (d_.particle_values) {
-        f.segment<2>(2 * I) += force;
-        continue;
-      }
-      const ShapeTable& tv = values_at_particles_;
-      for (int e = tv.offsets[I]; e < tv.offsets[I + 1]; ++e)
-        f.segment<2>(2 * tv.index[e]) += tv.value[e] * force;
+      add_force_at_particle(fp.loop[k], 0.5 * p * Eigen::Vector2d(d.y(), -d.x()), f);
     }
   }
+}
+
+void ExplicitDynamics::add_force_at_particle(int K, const Eigen::Vector2d& force,
+                                             Eigen::VectorXd& f) const {
+  if (d_.particle_values) {
+    f.segment<2>(2 * K) += force;
+    return;
+  }
+  const ShapeTable& tv = values_at_particles_;
+  for (int e = tv.offsets[K]; e < tv.offsets[K + 1]; ++e)
+    f.segment<2>(2 * tv.index[e]) += tv.value[e] * force;
 }
 
 void ExplicitDynamics::add_wall_tractions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& fw,
@@ -741,9 +744,7 @@ void ExplicitDynamics::add_wall_tractions(const Eigen::MatrixXd& x, const Eigen:
     const Eigen::Vector2d p = at.col(pushed[k]);
     double best = std::numeric_limits<double>::infinity();
     for (const RigidWall& w : model_.rigid_walls) {
-      const Eigen::Vector2d ab = w.b - w.a;
-      const double s = std::clamp((p - w.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      const Eigen::Vector2d foot = w.a + s * ab;
+      const Eigen::Vector2d foot = w.nearest(p);
       if ((p - foot).squaredNorm() < best) {
         best = (p - foot).squaredNorm();
         feet.col(k) = foot;
@@ -752,11 +753,8 @@ void ExplicitDynamics::add_wall_tractions(const Eigen::MatrixXd& x, const Eigen:
   }
   const Approximation& force =
       opt_.force == ForceForm::variational || !d_.test ? *d_.trial : *d_.test;
-  auto at_particle = [&](int K) {  // the force at the particle, as WallTraction::off
-    const ShapeTable& tv = values_at_particles_;
-    for (int e = tv.offsets[K]; e < tv.offsets[K + 1]; ++e)
-      f.segment<2>(2 * tv.index[e]) += tv.value[e] * fw.col(K);
-  };
+  // The force at the particle, as WallTraction::off.
+  auto at_particle = [&](int K) { add_force_at_particle(K, fw.col(K), f); };
   auto add = [&](const ShapeTable& t, int row, int K) {
     if (t.offsets[row] == t.offsets[row + 1]) return at_particle(K);  // no support reaches it
     for (int e = t.offsets[row]; e < t.offsets[row + 1]; ++e)

@@ -6,6 +6,7 @@
 ///   Ḟ_q = L_q F_q, L_q = Σ_J v_J ⊗ ∇N_J(x_q),  f_I = Σ_q w_q σ_q · ∇N^test_I(x_q)  (Eulerian)
 /// so every plugin gets wave propagation, energy balances and time-step estimates for free.
 #pragma once
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <utility>
@@ -196,9 +197,15 @@ struct FollowerPressure {
   std::function<double(double t)> pressure;  ///< p(t), positive pushing into the material
 };
 
-/// A rigid frictionless wall, the segment a–b (2D), for WallTraction::weak.
+/// A rigid frictionless wall, the segment a–b (2D): the fluid problems' penalty walls and
+/// WallTraction::weak's feet.
 struct RigidWall {
   Eigen::Vector2d a, b;
+  /// The point of the segment nearest to p.
+  Eigen::Vector2d nearest(const Eigen::Vector2d& p) const {
+    const Eigen::Vector2d s = b - a;
+    return a + std::clamp((p - a).dot(s) / s.squaredNorm(), 0.0, 1.0) * s;
+  }
 };
 
 /// What a problem supplies besides the discretization.
@@ -363,6 +370,9 @@ class ExplicitDynamics {
   /// the force functions at the particles' feet on the walls.
   void add_wall_tractions(const Eigen::MatrixXd& x, const Eigen::MatrixXd& fw,
                           Eigen::VectorXd& f) const;
+  /// A 2D force at particle K into f: on its unknown, or Σ_J N_J(X_K) force on the unknowns
+  /// (methods whose unknowns are not the particle values).
+  void add_force_at_particle(int K, const Eigen::Vector2d& force, Eigen::VectorXd& f) const;
   /// DynamicsModel::tensionless_points: their stresses' pulling isotropic parts dropped.
   void release_tension() const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;

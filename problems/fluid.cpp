@@ -30,21 +30,12 @@ Walls::Walls(std::vector<Wall> walls, double reach, double stiffness_per_mass)
       throw InputError("fluid walls: a wall segment has zero length or a non-finite end");
 }
 
-namespace {
-/// The point of segment w nearest to p, and the distance.
-Eigen::Vector2d nearest_on(const Wall& w, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d s = w.b - w.a;
-  const double t = std::clamp((p - w.a).dot(s) / s.squaredNorm(), 0.0, 1.0);
-  return w.a + t * s;
-}
-}  // namespace
-
 void Walls::add_forces(const Eigen::MatrixXd& x, const Eigen::VectorXd& mass,
                        Eigen::MatrixXd& f) const {
   for (Eigen::Index I = 0; I < x.cols(); ++I) {
     const Eigen::Vector2d p = x.col(I);
     for (const Wall& w : walls_) {
-      const Eigen::Vector2d r = p - nearest_on(w, p);
+      const Eigen::Vector2d r = p - w.nearest(p);
       const double d = r.norm();
       // d = 0 (a particle on the wall line) has no normal: it cannot happen before a
       // particle has passed r0 of penetration, which the watch reports first.
@@ -58,7 +49,7 @@ double Walls::energy(const Eigen::MatrixXd& x, const Eigen::VectorXd& mass) cons
   double e = 0;
   for (Eigen::Index I = 0; I < x.cols(); ++I)
     for (const Wall& w : walls_) {
-      const double d = (x.col(I) - nearest_on(w, x.col(I))).norm();
+      const double d = (x.col(I) - w.nearest(x.col(I))).norm();
       if (d < reach_) e += 0.5 * mass[I] * k_per_mass_ * (reach_ - d) * (reach_ - d);
     }
   return e;
@@ -91,19 +82,20 @@ DynamicsModel water_model(const Discretization& d, const MaterialRegistry& mater
   };
   const double dx = ps.spacing;
   if (!(dx > 0)) throw InputError("fluid problems need a lattice spacing");
-  auto walls = std::make_shared<const Walls>(setup.walls, 0.5 * dx,
-                                             std::pow(w.sound_speed() / dx, 2));
   const Eigen::VectorXd mass = model.mass;
   const double g = w.g;
   model.particle_forces = [mass, g](double, const Eigen::MatrixXd&, Eigen::MatrixXd& f) {
     f.row(1).array() -= g * mass.transpose().array();
   };
+  model.degenerate_fallback = true;
+  if (setup.walls.empty()) return model;  // wall particles instead (walls=particles)
+  auto walls = std::make_shared<const Walls>(setup.walls, 0.5 * dx,
+                                             std::pow(w.sound_speed() / dx, 2));
   // Added into the same forces after gravity (WallTraction::off: the sums as before).
   model.wall_forces = [walls, mass](double, const Eigen::MatrixXd& x, Eigen::MatrixXd& f) {
     walls->add_forces(x, mass, f);
   };
-  model.degenerate_fallback = true;
-  for (const Wall& wall : setup.walls) model.rigid_walls.push_back({wall.a, wall.b});
+  model.rigid_walls = setup.walls;
   return model;
 }
 

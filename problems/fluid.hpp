@@ -38,9 +38,7 @@ struct Water {
 };
 
 /// A rigid wall: the segment a–b; it pushes particles away from itself on both sides.
-struct Wall {
-  Eigen::Vector2d a, b;
-};
+using Wall = RigidWall;
 
 /// Penalty walls (see the file comment).
 class Walls {
