@@ -362,6 +362,10 @@ class ExplicitDynamics {
   template <int D>
   void forces(const Eigen::VectorXd& u, const Eigen::VectorXd& du, double dt, bool eulerian,
               bool viscosity, double* F, double* state, Eigen::VectorXd& f) const;
+  /// f = Σ_q w0_q σ_q ∇N_I(x_q) from the summed stresses: the gather over the transposed
+  /// table, or the serial scatter over the force table (scatter_forces_).
+  template <int D>
+  void sum_forces(Eigen::VectorXd& f) const;
   /// support=adaptive|stretch: the particles' dilations from F (SupportRule).
   void adapt_supports();
   void retabulate();
@@ -400,6 +404,10 @@ class ExplicitDynamics {
   // (q, w0_q ∇N_I(x_q)), so the force is a gather over particles (no write conflicts).
   std::vector<int> tt_offsets_, tt_point_, tt_next_;
   std::vector<double> tt_grad_;
+  /// The Eulerian frame with serial force loops: the force is scattered from the point-major
+  /// force table, in the gather's order (each particle's terms by ascending point), so no
+  /// particle-major copy is built at every recomputation (bit for bit the gather's sums).
+  bool scatter_forces_ = false;
   /// ParticleOrder::hilbert: engine → given numbering of particles and points, the trial and
   /// force tables renumbered (the force table is trial_r_ itself when the two are equal),
   /// the reference weights in the engine's order, and gather/scatter scratch.
