@@ -39,9 +39,10 @@ using finding::Tally;
 /// Verdict tolerances: the time-averaged pressure error over the points, the peak kinetic
 /// energy over M g H, the density's largest departure from ρ0 and the energy balance over
 /// M g H. The pressure's 0.10: over the penalty walls (walls=plain) the boundary rows'
-/// one-sided supports bias their pressure by about 15 % in SPH and RLM whatever the spacing (measured: 1.12, 1.16, 1.16 of ρ0 g (H − y)
-/// in SPH's bottom row at Δx = 10, 5, 2.5 mm, the same with the bottom row pinned instead of
-/// the floor wall), which alone is 0.04–0.05 of the norm at 20 × 40 particles. The rest grows
+/// one-sided supports bias their pressure by about 15 % in SPH and RLM whatever the spacing
+/// (measured: 1.12, 1.16, 1.16 of ρ0 g (H − y) in SPH's bottom row at Δx = 10, 5, 2.5 mm, the
+/// same with the bottom row pinned instead of the floor wall), which alone is 0.04–0.05 of the
+/// norm at 20 × 40 particles. The rest grows
 /// with the run: the kinetic energy grows about linearly over the 20 crossings in every
 /// method, with the energy balance kept, and walls=preloaded (walls that carry the load at
 /// t = 0) changes neither it nor the error (measured in the issue-16 report).
