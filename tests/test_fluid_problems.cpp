@@ -3,6 +3,7 @@
 // refusal of bad parameters.
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -123,17 +124,21 @@ CaseSpec fluid_case(const std::string& problem, const std::string& method,
   return s;
 }
 
-/// SPH's time-averaged pressure error on a short Eulerian column (8 across, 2 crossings)
-/// between the penalty walls, with one more option: options that cannot change SPH are checked
-/// bit for bit with it.
-double short_sph_column_error(const std::string& option) {
+/// The headline of a short Eulerian SPH column (8 across, 2 crossings) with more options
+/// (none: the problem's defaults).
+std::map<std::string, double> short_sph_column(const std::string& options) {
   return run_case(test_catalogue(),
                   fluid_case("hydrostatic-column", "sph",
-                             "frame=eulerian,frames=0,threads=1,crossings=2,average_crossings=1,"
-                             "walls=plain," +
-                                 option,
+                             "frame=eulerian,frames=0,threads=1,crossings=2,average_crossings=1" +
+                                 (options.empty() ? options : "," + options),
                              8))
-      .headline.at("pressure error (time-averaged)");
+      .headline;
+}
+
+/// SPH's time-averaged pressure error on that column between the penalty walls, with one more
+/// option: options that cannot change SPH are checked bit for bit with it.
+double short_sph_column_error(const std::string& option) {
+  return short_sph_column("walls=plain," + option).at("pressure error (time-averaged)");
 }
 
 TEST(HydrostaticColumn, ShortSphRunHoldsThePressure) {
@@ -307,15 +312,7 @@ TEST(HydrostaticColumn, TheDefaultWallsAreWallParticlesAndHoldTheIssuesKbmColumn
   EXPECT_EQ(r.headline.at("unstable"), 0);
   EXPECT_EQ(r.headline.at("wall particles"), 26 * 43 - 800);  // 3 layers around 20 × 40
   // The default is walls=particles, bit for bit.
-  auto sph = [](const std::string& walls) {
-    return run_case(test_catalogue(),
-                    fluid_case("hydrostatic-column", "sph",
-                               "frame=eulerian,frames=0,threads=1,crossings=2,"
-                               "average_crossings=1" + walls,
-                               8))
-        .headline;
-  };
-  const auto by_default = sph(""), particles = sph(",walls=particles");
+  const auto by_default = short_sph_column(""), particles = short_sph_column("walls=particles");
   EXPECT_EQ(by_default.at("pressure error (time-averaged)"),
             particles.at("pressure error (time-averaged)"));
   EXPECT_EQ(by_default.at("wall particles"), particles.at("wall particles"));
