@@ -146,6 +146,11 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
   auto in_water = [W](const Eigen::Ref<const Eigen::Vector2d>& x) {
     return x.x() > 0 && x.x() < W && x.y() > 0;
   };
+  // The integration points of the water and of the wall particles (none with penalty walls).
+  std::vector<int> water_points, wall_points;
+  for (Eigen::Index q = 0; q < d.quadrature.points.cols(); ++q)
+    (in_water(d.quadrature.points.col(q)) ? water_points : wall_points)
+        .push_back(static_cast<int>(q));
   fluid::Setup setup;
   setup.surface = H;
   // Side walls twice the column's height: the water never reaches their ends.
@@ -178,9 +183,7 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
       if (!in_water(ps.x.col(I)))
         for (int c = 0; c < 2; ++c) def.model.prescribed.push_back({I, c, 0.0});
     // Their points carry no tension (a wall does not pull water; DynamicsModel).
-    for (Eigen::Index q = 0; q < d.quadrature.points.cols(); ++q)
-      if (!in_water(d.quadrature.points.col(q)))
-        def.model.tensionless_points.push_back(static_cast<int>(q));
+    def.model.tensionless_points = wall_points;
   }
   const fluid::Water water = setup.water;
   const double c0 = water.sound_speed(), crossing = H / c0;
@@ -219,9 +222,6 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
   // rules, stress points or Gauss points otherwise); it is compared there, at the points'
   // reference positions: the column moves by microns (the walls' penetration g H Δx / c0²).
   // Wall particles' points are not water: the measures read the water's points only.
-  std::vector<int> water_points;
-  for (Eigen::Index q = 0; q < d.quadrature.points.cols(); ++q)
-    if (in_water(d.quadrature.points.col(q))) water_points.push_back(static_cast<int>(q));
   const int nq = static_cast<int>(water_points.size());
   Eigen::MatrixXd Xq(2, nq);
   for (int k = 0; k < nq; ++k) Xq.col(k) = d.quadrature.points.col(water_points[k]);
