@@ -419,6 +419,11 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
       model_.initial_state(Xq_, ns, state_.data());
     }
   }
+  // The gather runs serially (one thread, or too few particles to split): in the Eulerian
+  // frame, whose tables change at every recomputation, the forces are scattered from the
+  // point table instead of transposing it each time (a fifth of SPH's every-step cost).
+  scatter_forces_ = opt_.frame == KernelFrame::eulerian && !renumbered_ &&
+                    (opt_.threads <= 1 || n_ <= kParallelMinimum);
   build_force_tables();
   apply_prescribed(0, v_, a_);
   internal_force(u_, Eigen::VectorXd::Zero(m), 0, true, f_int_);
@@ -430,11 +435,6 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
 
 void ExplicitDynamics::build_force_tables() {
   const ShapeTable& t = force_table();
-  // The gather runs serially (one thread, or too few particles to split): in the Eulerian
-  // frame, whose tables change at every recomputation, the forces are scattered from the
-  // point table instead of transposing it each time (a fifth of SPH's every-step cost).
-  scatter_forces_ = opt_.frame == KernelFrame::eulerian && !renumbered_ &&
-                    (opt_.threads <= 1 || n_ <= kParallelMinimum);
   const Eigen::VectorXd& w0 = renumbered_ ? w0_r_ : w0_;
   if (t.points() != nq_ || static_cast<int>(t.grad.size()) != t.entries() * dim_)
     throw std::logic_error("explicit dynamics needs first derivatives of the functions the "
@@ -781,8 +781,8 @@ void ExplicitDynamics::add_wall_tractions(const Eigen::MatrixXd& x, const Eigen:
     double best = std::numeric_limits<double>::infinity();
     for (const RigidWall& w : model_.rigid_walls) {
       const Eigen::Vector2d foot = w.nearest(p);
-      if ((p - foot).squaredNorm() < best) {
-        best = (p - foot).squaredNorm();
+      if (const double d2 = (p - foot).squaredNorm(); d2 < best) {
+        best = d2;
         feet.col(k) = foot;
       }
     }
