@@ -4,6 +4,7 @@
 #include <set>
 
 #include "methods/core/clock.hpp"
+#include "methods/core/names.hpp"
 
 namespace mfv {
 
@@ -84,13 +85,18 @@ ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec) {
       rc.method_given.set(k, v);
       continue;
     }
-    if (!analysis_keys.count(k))
+    if (!analysis_keys.count(k)) {
+      std::vector<std::string> valid;
+      for (const auto& s : method_schema) valid.push_back(s.name);
+      valid.insert(valid.end(), analysis_keys.begin(), analysis_keys.end());
       throw InputError(fmt::format(
-          "unknown parameter '{}' of method '{}' (analysis '{}'); the method's: {}; the "
+          "unknown parameter '{}' of method '{}' (analysis '{}'); {}the method's: {}; the "
           "analysis's: {}",
-          k, spec.method, rc.analysis, fmt::join(keys_of(method_schema), ", "),
+          k, spec.method, rc.analysis, did_you_mean(k, valid),
+          fmt::join(keys_of(method_schema), ", "),
           analysis_keys.empty() ? std::string("none")
                                 : fmt::format("{}", fmt::join(analysis_keys, ", "))));
+    }
     if (spec.problem_params.has(k) &&
         format_value(spec.problem_params.values().at(k)) != format_value(v))
       throw InputError(fmt::format(

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <set>
 #include <thread>
@@ -16,14 +17,19 @@
 #include <fmt/ostream.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/names.hpp"
 #include "reports/atomic.hpp"
 #include "reports/markdown.hpp"
 #include "analyses/report_section.hpp"
 #include "analyses/case_vtk.hpp"
 #include "methods/core/clock.hpp"
 #include "verify/baseline.hpp"
+#include "verify/diff.hpp"
+#include "verify/history.hpp"
+#include "verify/junit.hpp"
 #include "verify/ledger.hpp"
 #include "verify/manifest.hpp"
+#include "verify/provenance.hpp"
 #include "verify/results_json.hpp"
 #include "verify/runner.hpp"
 
@@ -31,20 +37,30 @@ namespace mfv {
 
 namespace {
 
+/// "methods", "analyses": a registry kind's plural.
+std::string plural(const std::string& kind) {
+  return kind.ends_with("is") ? kind.substr(0, kind.size() - 2) + "es" : kind + "s";
+}
+
+/// One entry: its description and every parameter with default, range and meaning.
 template <class R>
-void list_registry(const R& r, std::ostream& out) {
-  out << fmt::format("{}s:\n", r.kind());
-  for (const auto& name : r.keys()) {
-    const auto& e = r.entry(name);
-    out << fmt::format("  {:<20} {}\n", name, e.description);
-    for (const auto& p : e.schema) {
-      std::string range;
-      if (!p.choices.empty()) range = fmt::format(" {{{}}}", fmt::join(p.choices, "|"));
-      else if (p.min) range = fmt::format(" ({} {})", p.min_exclusive ? ">" : ">=", *p.min);
-      out << fmt::format("      {}={}{}  {}\n", p.name, format_value(p.default_value), range,
-                         p.description);
-    }
+void list_entry(const R& r, const std::string& name, std::ostream& out) {
+  const auto& e = r.entry(name);
+  out << fmt::format("  {:<20} {}\n", name, e.description);
+  for (const auto& p : e.schema) {
+    std::string range;
+    if (!p.choices.empty()) range = fmt::format(" {{{}}}", fmt::join(p.choices, "|"));
+    else if (p.min) range = fmt::format(" ({} {})", p.min_exclusive ? ">" : ">=", *p.min);
+    out << fmt::format("      {}={}{}  {}\n", p.name, format_value(p.default_value), range,
+                       p.description);
   }
+}
+
+/// The first sentence of a description, cut at 90 characters: the overview's one line.
+std::string first_line(const std::string& d) {
+  std::string s = d.substr(0, d.find(": "));
+  if (const auto at = s.find(". "); at != std::string::npos) s = s.substr(0, at);
+  return s.size() > 90 ? s.substr(0, 87) + "..." : s;
 }
 
 /// How reports print the time.
@@ -224,16 +240,83 @@ StudyProgress progress_printer(std::ostream& progress, const std::string& prefix
 
 }  // namespace
 
-void command_list(const Catalogue& c, std::ostream& out) {
-  list_registry(c.kernels, out);
-  list_registry(c.approximations, out);
-  list_registry(c.integrations, out);
-  list_registry(c.methods, out);
-  list_registry(c.problems, out);
-  list_registry(c.analyses, out);
-  out << "\nanalyses each problem declares (the first is its default):\n";
-  for (const auto& name : c.problems.keys())
-    out << fmt::format("  {:<22} {}\n", name, fmt::join(c.problems.create(name)->analyses(), ", "));
+void command_list(const Catalogue& c, const std::string& what, std::ostream& out) {
+  // Each registry under its plural and singular ("methods", "method"), in layer order.
+  struct Kind {
+    std::string plural;
+    std::function<void(bool full)> list;
+    std::function<bool(const std::string&)> has;
+    std::function<void(const std::string&)> one;
+  };
+  std::vector<Kind> kinds;
+  auto add = [&](const auto& r) {
+    // Matched by the plural of the kind's first word ("integrations" for "integration scheme").
+    kinds.push_back(Kind{
+        plural(r.kind().substr(0, r.kind().find(' '))),
+        [&r, &out, &c](bool full) {
+          out << fmt::format("{}:\n", plural(r.kind()));
+          for (const auto& name : r.keys()) {
+            if (full) {
+              list_entry(r, name, out);
+            } else {
+              out << fmt::format("  {:<22} {}\n", name, first_line(r.entry(name).description));
+            }
+          }
+        },
+        [&r](const std::string& n) { return r.contains(n); },
+        [&r, &out](const std::string& n) {
+          out << fmt::format("{} '{}':\n", r.kind(), n);
+          list_entry(r, n, out);
+        }});
+  };
+  add(c.kernels);
+  add(c.approximations);
+  add(c.integrations);
+  add(c.methods);
+  add(c.materials);
+  add(c.problems);
+  add(c.analyses);
+  auto problem_analyses = [&](const std::string& name) {
+    out << fmt::format("      analyses (the first is the default): {}\n",
+                       fmt::join(c.problems.create(name)->analyses(), ", "));
+  };
+  if (what.empty()) {
+    for (const auto& k : kinds) k.list(false);
+    out << "\n`mfv list <kind>` (kernels, approximations, integrations, methods, materials, "
+           "problems, analyses) lists each with its parameters; `mfv list <name>` shows one.\n";
+    return;
+  }
+  for (const auto& k : kinds) {
+    if (what != k.plural && what + "s" != k.plural && plural(what) != k.plural) continue;
+    k.list(true);
+    if (k.plural == "problems")
+      for (const auto& name : c.problems.keys()) {
+        out << fmt::format("  {}:\n", name);
+        problem_analyses(name);
+      }
+    return;
+  }
+  bool found = false;
+  for (const auto& k : kinds)
+    if (k.has(what)) {
+      k.one(what);
+      if (k.plural == "problems") problem_analyses(what);
+      found = true;  // a name may be a method and an approximation both
+    }
+  if (found) return;
+  std::vector<std::string> valid;
+  for (const auto& k : kinds) valid.push_back(k.plural);
+  std::vector<std::string> names;
+  for (const auto& r : {c.kernels.keys(), c.approximations.keys(), c.integrations.keys(),
+                        c.methods.keys(), c.materials.keys(), c.problems.keys(),
+                        c.analyses.keys()})
+    names.insert(names.end(), r.begin(), r.end());
+  valid.insert(valid.end(), names.begin(), names.end());
+  throw InputError(fmt::format("mfv list: '{}' is neither a kind nor a name; {}kinds: {}; "
+                               "`mfv list` names everything",
+                               what, did_you_mean(what, valid),
+                               "kernels, approximations, integrations, methods, materials, "
+                               "problems, analyses"));
 }
 
 /// A case that ran but did not pass (exit 1: an unstable transient run, a failed check)
@@ -476,17 +559,47 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                    std::ostream& progress) {
   const Manifest manifest = load_manifest(o.manifest);
   std::vector<const ManifestCase*> selected;
-  for (const auto& id : o.cases) {
-    const ManifestCase& mc = manifest.find(id);
-    if (mc.full_only && !o.full)
-      throw InputError(fmt::format("{}:{}: case '{}' runs only with --full (full_only = true); "
-                                   "add --full",
-                                   manifest.path.string(), mc.line, mc.id));
-    selected.push_back(&mc);
-  }
-  if (o.cases.empty())
+  if (o.cases.empty()) {
     for (const auto& mc : manifest.cases)
       if (o.full || !mc.full_only) selected.push_back(&mc);
+  } else {
+    // Ids and globs, each case once, in manifest order. A full-only case named by its id
+    // without --full is a mistake; one a pattern sweeps up is left out, and said so.
+    std::set<const ManifestCase*> chosen;
+    int full_only_skipped = 0;
+    for (const auto& pattern : o.cases) {
+      const auto matched = manifest.select(pattern);
+      const bool by_id = matched.size() == 1 && matched.front()->id == pattern;
+      for (const ManifestCase* mc : matched) {
+        if (mc->full_only && !o.full) {
+          if (by_id)
+            throw InputError(fmt::format("{}:{}: case '{}' runs only with --full (full_only = "
+                                         "true); add --full",
+                                         manifest.path.string(), mc->line, mc->id));
+          if (!chosen.count(mc)) ++full_only_skipped;
+          continue;
+        }
+        chosen.insert(mc);
+      }
+    }
+    for (const auto& mc : manifest.cases)
+      if (chosen.count(&mc)) selected.push_back(&mc);
+    if (full_only_skipped > 0)
+      progress << fmt::format("{} full-only case(s) the pattern(s) matched are left out; add "
+                              "--full to run them\n",
+                              full_only_skipped);
+    if (selected.empty())
+      throw InputError(fmt::format("--case {} selects only full-only cases; add --full",
+                                   fmt::join(o.cases, " --case ")));
+  }
+  if (o.list) {
+    for (const auto* mc : selected)
+      out << fmt::format("{:<48} {:<22} {}{}\n", mc->id, mc->problem, mc->method,
+                         mc->full_only ? "  (--full only)" : "");
+    out << fmt::format("{} case(s) of {}\n", selected.size(), manifest.path.string());
+    return 0;
+  }
+  if (!o.junit.empty()) check_output_file(o.junit, "JUnit file", is_mfv_junit);
 
   // Names and parameters are checked up front: a typo fails in a second, not after an hour.
   for (const auto* mc : selected) {
@@ -518,6 +631,24 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                        : std::filesystem::path(o.report);
   std::unique_ptr<StagedDirectory> staged;
   if (!o.no_report) staged = stage_report(report_dir, o.force, manifest.name);
+  // The history file is opened (created, migrated, checked) before the first case runs.
+  std::optional<HistoryStore> history;
+  if (!o.no_history) {
+    std::filesystem::path file = o.history;
+    if (file.empty() && staged)
+      file = report_dir.parent_path() / (report_dir.filename().string() + ".history.sqlite");
+    if (!file.empty()) history.emplace(file);
+  }
+  // The run this report replaces, if it was a verification run: the report leads with what
+  // changed since it (an unreadable or foreign one is simply not compared).
+  std::optional<nlohmann::json> previous;
+  if (staged) {
+    try {
+      if (std::filesystem::exists(report_dir / "results.json"))
+        previous = load_run_results(report_dir / "results.json");
+    } catch (const InputError&) {
+    }
+  }
   // The ledger is checked before the first case runs too (its rows name cases and values).
   std::optional<Ledger> ledger;
   if (!manifest.ledger.empty()) ledger = load_ledger(manifest.ledger, manifest, c);
@@ -531,6 +662,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     std::vector<BandViolation> bands;
     std::vector<Drift> drifts;
     std::vector<std::string> stability;  ///< blown up, or stable against expect = "unstable"
+    double seconds = 0;                  ///< wall time of the case
   };
   std::vector<Outcome> outcomes;
   std::vector<ReportSection> sections;
@@ -540,7 +672,8 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
 
   for (std::size_t k = 0; k < selected.size(); ++k) {
     const ManifestCase& mc = *selected[k];
-    Outcome oc{&mc, std::nullopt, "", {}, {}, {}};
+    Outcome oc{&mc, std::nullopt, "", {}, {}, {}, 0};
+    const double case_start = wall_seconds();
     CaseSpec spec;
     spec.problem = mc.problem;
     spec.problem_params = mc.problem_params;
@@ -616,6 +749,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
                               e.what());
     }
+    oc.seconds = wall_seconds() - case_start;
     outcomes.push_back(std::move(oc));
   }
   const double wall = wall_seconds() - w0, cpu = cpu_seconds() - c0;
@@ -634,6 +768,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       "|:--|:--|--:|--:|--:|:--|:--|:--|\n";
   std::vector<std::string> messages;
   std::vector<VerifyCaseJson> case_json;
+  JUnitSuite junit;
   for (const auto& oc : outcomes) {
     const auto worse = std::count_if(oc.drifts.begin(), oc.drifts.end(),
                                      [](const Drift& d) { return d.worse; });
@@ -689,6 +824,35 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       messages.push_back(d.message);
       cj.messages.push_back(d.message);
     }
+    JUnitCase jc{"mfv." + oc.mc->problem, oc.mc->id, oc.seconds, {},
+                 fmt::format("{} with {} at nodes {}: L2 rate {}, bands {}, baseline {}: {}",
+                             oc.mc->problem, oc.mc->method, fmt::join(nodes, ","),
+                             oc.study ? fmt_rate(oc.study->rates.rate("L2")) : "–", bands_state,
+                             base_state, ok ? "PASS" : "FAIL")};
+    if (!oc.error.empty())
+      jc.problems.push_back({JUnitProblem::Kind::error, "could-not-run", oc.error, oc.error});
+    for (const auto& m : oc.stability)
+      jc.problems.push_back({JUnitProblem::Kind::failure, "stability", m, m});
+    for (const auto& b : oc.bands)
+      jc.problems.push_back({JUnitProblem::Kind::failure, "band", b.message,
+                             fmt::format("{} = {:.6g}, band [{:.6g}, {:.6g}]", b.metric, b.value,
+                                         b.band.low, b.band.high)});
+    for (const auto& d : oc.drifts) {
+      if (d.worse || d.metric == "resolution")
+        jc.problems.push_back({JUnitProblem::Kind::failure, "baseline", d.message,
+                               d.metric == "resolution"
+                                   ? d.message
+                                   : fmt::format("{}{}: baseline {:.6g}, now {:.6g} ({:+.1f} %)",
+                                                 d.metric,
+                                                 d.nodes > 0 ? fmt::format(" at {} nodes", d.nodes)
+                                                             : "",
+                                                 d.baseline, d.current,
+                                                 100 * (d.current - d.baseline) /
+                                                     std::max(std::abs(d.baseline), 1e-300))});
+      else
+        jc.system_out += "\n" + d.message;  // better than the baseline: a note, not a failure
+    }
+    junit.cases.push_back(std::move(jc));
     case_json.push_back(std::move(cj));
   }
 
@@ -710,6 +874,63 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       ran[oc.mc->id] = CaseOutcome{oc.study ? &*oc.study : nullptr, oc.error};
     entries = evaluate_ledger(*ledger, c, manifest, ran);
     out << fmt::format("Ledger ({}): {}\n", ledger->path.string(), verdict_counts_line(entries));
+  }
+  const std::string results_text =
+      verify_results_json(c, run_info("verify", wall, cpu), manifest.name, o.manifest, o.full,
+                          case_json, ledger ? &*ledger : nullptr, entries);
+
+  // The history: this run appended, then the slow drifts over the last runs (each step
+  // inside the tolerance, the whole window not) reported; they do not change the exit code.
+  std::vector<HistoryDrift> creeping;
+  if (history) {
+    const long id = history->append(nlohmann::json::parse(results_text));
+    creeping = history->drifts(id, kHistoryWindow,
+                               manifest.drift_tolerance > 0 ? manifest.drift_tolerance : 0.05);
+    out << fmt::format("history: run {} appended to {}{}\n", id, history->path().string(),
+                       creeping.empty() ? ""
+                                        : fmt::format("; {} quantity(ies) crept over the last {} "
+                                                      "runs:",
+                                                      creeping.size(), kHistoryWindow));
+    for (const auto& d : creeping) out << "  " << d.message << "\n";
+  }
+
+  if (!o.junit.empty()) {
+    // The regression verdicts are the test cases; provenance and the ledger's verdicts (a
+    // paper not reproduced is not a failed test) are the suite's properties.
+    for (const auto& d : creeping)
+      for (auto& jc : junit.cases)
+        if (jc.name == d.case_id) jc.system_out += "\nhistory: " + d.message;
+    junit.name = manifest.name;
+    junit.timestamp = utc_now("%Y-%m-%dT%H:%M:%S");
+    junit.seconds = wall;
+    const Provenance prov = provenance();
+    junit.hostname = prov.hostname;
+    junit.properties = {
+        {"manifest", o.manifest},
+        {"full", o.full ? "true" : "false"},
+        {"mfv.version", prov.version},
+        {"mfv.commit", prov.commit + (prov.dirty ? " (with uncommitted changes)" : "")},
+        {"mfv.build", prov.build_type + ", " + prov.compiler},
+        {"machine", fmt::format("{} cores, {}", prov.cores, prov.cpu)},
+        {"threads", fmt::format("{} (OMP_WAIT_POLICY {})", prov.threads,
+                                prov.omp_wait_policy.empty() ? "unset" : prov.omp_wait_policy)},
+        {"summary", summary.substr(0, summary.find(" (see above)"))},
+    };
+    if (ledger) {
+      junit.properties.emplace_back("ledger", verdict_counts_line(entries));
+      for (const auto& e : entries) {
+        const LedgerRow& read = e.read ? *e.read : *e.row;
+        junit.properties.emplace_back(
+            "ledger:" + e.row->id,
+            fmt::format("{}{}{}", e.verdict,
+                        e.evidence.empty() || e.evidence == "–" ? "" : "; evidence " + e.evidence,
+                        read.cases.empty()
+                            ? std::string()
+                            : fmt::format("; cases {}", fmt::join(read.cases, ", "))));
+      }
+    }
+    write_file_atomic(o.junit, junit_xml(junit));
+    out << fmt::format("JUnit: {}\n", o.junit);
   }
 
   if (o.update_baseline && !manifest.baseline.empty()) {
@@ -739,6 +960,41 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     if (const auto at = report_summary.find(" (see above)"); at != std::string::npos)
       report_summary.replace(at, 12, " (see [Regression](#regression))");
     summary_table.add_row({"**regression** against bands and baseline", report_summary});
+    // What changed since the run this report replaces: the first thing a nightly reader needs.
+    std::string changes_md;
+    if (previous) {
+      try {
+        const RunDiff d = diff_runs(*previous, nlohmann::json::parse(results_text));
+        summary_table.add_row(
+            {"**changes** since the last run here",
+             fmt::format("{} worse, {} better ([Changes](#changes-since-the-last-run))", d.worse(),
+                         d.better())});
+        changes_md = "## Changes since the last run\n\n" + diff_text(d, true) + "\n";
+      } catch (const InputError& e) {
+        changes_md = fmt::format("## Changes since the last run\n\nNot compared: {}\n\n", e.what());
+      }
+    } else {
+      summary_table.add_row({"**changes** since the last run here",
+                             "no earlier verification run at this report path"});
+    }
+    if (history) {
+      std::string h = fmt::format(
+          "\nHistory: `{}` (`mfv history CASE --history {}` prints a quantity over the runs). ",
+          history->path().string(), history->path().string());
+      if (creeping.empty()) {
+        h += fmt::format("No quantity crept the wrong way by more than the drift tolerance over "
+                         "the last {} runs.\n\n",
+                         kHistoryWindow);
+      } else {
+        h += fmt::format("Crept the wrong way over the last {} runs, each step inside the "
+                         "tolerance:\n\n",
+                         kHistoryWindow);
+        for (const auto& d : creeping) h += fmt::format("- {}\n", d.message);
+        h += "\n";
+      }
+      if (changes_md.empty()) changes_md = "## Changes since the last run\n\n";
+      changes_md += h;
+    }
     summary_table.add_row({"machine", fmt::format("{} cores", cores())});
     summary_table.add_row({"time", fmt::format("wall {}, CPU {} (finished {})", fmt_seconds(wall),
                                                fmt_seconds(cpu), utc_now(kReportTime))});
@@ -749,12 +1005,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
             "recorded baseline; it says nothing about the papers. Whether a paper's claim is "
             "reproduced is the ledger's verdict, computed from this run against the tolerance "
             "each row states.\n\n";
+    head += changes_md;
     // 2. Contents.
     head += "## Contents\n\n";
+    head += "- [Regression](#regression) (every case: [regression.md](regression.md))\n";
     if (ledger) head += "- [Reproduction ledger](#reproduction-ledger) (in full: [ledger.md](ledger.md))\n";
-    head += fmt::format("- [Regression](#regression) (every case: [regression.md](regression.md))\n"
-                        "- Problems\n{}\n",
-                        kProblemsToc);
+    head += fmt::format("- Problems\n{}\n", kProblemsToc);
     head += "Machine-readable: [results.json](results.json) (every case, the regression "
             "verdicts and the ledger; schema in docs/results-schema.md)";
     if (ledger) head += ", [ledger.csv](ledger.csv), [ledger.json](ledger.json)";
@@ -772,12 +1028,16 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     // 3. The ledger: short rows here, every column (paper, ours, tolerance, reason, reading)
     // on ledger.md.
     std::vector<std::pair<std::string, std::string>> files;
+    // After the regression (issue 28: a nightly reader wants what changed and what failed
+    // first): the counts by paper and section here, every row one link away.
+    std::string ledger_md;
     if (ledger) {
-      head += fmt::format(
-          "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). {} The paper's "
-          "and our values, the tolerance, the case that measures ours and the reason for each "
-          "gap, every reading tried and its checks are in [ledger.md](ledger.md), by paper.\n\n{}\n",
-          ledger->path.filename().string(), legend, ledger_summary_markdown(entries));
+      ledger_md = fmt::format(
+          "## Reproduction ledger\n\nOne row per claim of the papers (`{}`). {} Every row — "
+          "the paper's and our values, the tolerance, the case that measures ours, the reason "
+          "for each gap, every reading tried and its checks — is in [ledger.md](ledger.md), by "
+          "paper; [ledger.csv](ledger.csv) has them for a spreadsheet.\n\n{}\n",
+          ledger->path.filename().string(), legend, ledger_counts_markdown(entries));
       files.emplace_back(
           "ledger.md",
           fmt::format("# Reproduction ledger: {}\n\n[Back to the report](index.md)\n\n{}\n\n"
@@ -799,6 +1059,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       messages_md += "\n";
     }
     head += messages_md;
+    head += ledger_md;
     files.emplace_back("regression.md",
                        fmt::format("# Regression verdict per case: {}\n\n[Back to the "
                                    "report](index.md)\n\n**{}**\n\n{}\n\n{}\n{}",
@@ -808,10 +1069,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       for (const auto& oc : outcomes)
         if (!oc.error.empty() && oc.mc->problem == s.problem)
           s.failures.push_back(fmt::format("{}: {}", oc.mc->id, oc.error));
-    files.emplace_back("results.json",
-                       verify_results_json(c, run_info("verify", wall, cpu), manifest.name,
-                                           o.manifest, o.full, case_json,
-                                           ledger ? &*ledger : nullptr, entries));
+    files.emplace_back("results.json", results_text);
     if (ledger) {
       files.emplace_back("ledger.csv", ledger_csv(entries));
       files.emplace_back("ledger.json", ledger_json_text(*ledger, entries));
@@ -820,6 +1078,93 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
   return failed == 0 ? 0 : 1;
+}
+
+int command_diff(const DiffCommandOptions& o, std::ostream& out) {
+  if (!(o.tolerance > 0) || !std::isfinite(o.tolerance))
+    throw InputError(fmt::format("--tolerance {} must be a positive finite relative change, "
+                                 "e.g. 0.05",
+                                 o.tolerance));
+  DiffOptions d;
+  d.tolerance = o.tolerance;
+  // A path (a report directory or a results.json), or a run id of the history.
+  std::optional<HistoryStore> history;
+  auto record_of = [&](const std::string& what) {
+    std::error_code ec;
+    const bool digits = !what.empty() && std::all_of(what.begin(), what.end(), [](char ch) {
+      return std::isdigit(static_cast<unsigned char>(ch));
+    });
+    if (!digits || std::filesystem::exists(what, ec)) return run_record(load_run_results(what));
+    if (o.history.empty())
+      throw InputError(fmt::format("mfv diff: '{}' is a run id; name the history it is in with "
+                                   "--history FILE",
+                                   what));
+    if (!history) history.emplace(o.history);
+    return history->record(std::stol(what));
+  };
+  const RunDiff diff = diff_runs(record_of(o.before), record_of(o.after), d);
+  out << diff_text(diff);
+  return diff.worse() > 0 ? 1 : 0;
+}
+
+int command_history(const HistoryCommandOptions& o, std::ostream& out) {
+  if (o.last < 1)
+    throw InputError(fmt::format("--last {} must be at least 1", o.last));
+  if (!std::filesystem::exists(o.history))
+    throw InputError(fmt::format("no history at '{}'; `mfv verify` writes one beside its report "
+                                 "(<report>.history.sqlite) or where --history says",
+                                 o.history));
+  const HistoryStore h(o.history);
+  if (o.subject.empty()) {
+    MarkdownTable t({"run", "time", "suite", "commit", "status", "failed"},
+                    {'r', 'l', 'l', 'l', 'l', 'r'});
+    for (const auto& r : h.runs(o.last))
+      t.add_row({std::to_string(r.id), r.generated_utc, r.suite + (r.full ? " (--full)" : ""),
+                 r.commit.substr(0, 12) + (r.dirty ? "+changes" : ""), r.status,
+                 fmt::format("{} of {}", r.failed, r.cases)});
+    out << t.str();
+    return 0;
+  }
+  // CASE/QUANTITY: the longest recorded case id that the subject starts with.
+  const std::vector<std::string> cases = h.cases();
+  std::string case_id, quantity = o.quantity;
+  for (const auto& c : cases)
+    if ((o.subject == c || o.subject.starts_with(c + "/")) && c.size() > case_id.size()) case_id = c;
+  if (case_id.empty())
+    throw InputError(fmt::format("history {} has no case '{}'; {}{} cases are recorded",
+                                 o.history, o.subject, did_you_mean(o.subject, cases),
+                                 cases.size()));
+  if (o.subject.size() > case_id.size()) quantity = o.subject.substr(case_id.size() + 1);
+  if (quantity.empty()) {
+    // Every quantity of the case with its last value and trend.
+    MarkdownTable t({"quantity", "last", "trend (oldest → newest)"}, {'l', 'r', 'l'});
+    for (const auto& q : h.quantities(case_id)) {
+      const auto pts = h.series(case_id, q, o.last);
+      std::vector<double> v;
+      for (const auto& p : pts) v.push_back(p.value);
+      t.add_row({q, pts.empty() || !std::isfinite(pts.back().value)
+                        ? "–"
+                        : fmt::format("{:.4g}", pts.back().value),
+                 sparkline(v)});
+    }
+    out << t.str();
+    return 0;
+  }
+  const auto known = h.quantities(case_id);
+  if (std::find(known.begin(), known.end(), quantity) == known.end())
+    throw InputError(fmt::format("history {}: case '{}' has no quantity '{}'; {}`mfv history {}` "
+                                 "lists its {}",
+                                 o.history, case_id, quantity, did_you_mean(quantity, known),
+                                 case_id, known.size()));
+  MarkdownTable t({"run", "time", "commit", quantity}, {'r', 'l', 'l', 'r'});
+  std::vector<double> v;
+  for (const auto& p : h.series(case_id, quantity, o.last)) {
+    t.add_row({std::to_string(p.run), p.generated_utc, p.commit.substr(0, 12),
+               std::isfinite(p.value) ? fmt::format("{:.6g}", p.value) : "not measured"});
+    v.push_back(p.value);
+  }
+  out << t.str() << fmt::format("trend: {}\n", sparkline(v));
+  return 0;
 }
 
 namespace {

@@ -9,9 +9,10 @@
 
 namespace mfv {
 
-/// `mfv list`: every kernel, approximation, integration scheme, method and problem with its
-/// parameters.
-void command_list(const Catalogue& c, std::ostream& out);
+/// `mfv list [WHAT]`: WHAT empty names every kernel, approximation, integration scheme,
+/// method, problem and analysis in one line each; a kind ("methods") lists that registry with
+/// every parameter; a name shows that entry. InputError ("did you mean") for anything else.
+void command_list(const Catalogue& c, const std::string& what, std::ostream& out);
 
 struct RunOptions {
   std::string problem, method, method_params, problem_params;
@@ -71,7 +72,13 @@ std::pair<std::string, std::string> split_method_spec(const std::string& spec);
 struct VerifyOptions {
   std::string manifest;
   bool full = false;
-  std::vector<std::string> cases;  ///< only these ids; empty: all
+  std::vector<std::string> cases;  ///< only these ids or globs (Manifest::select); empty: all
+  std::string junit;               ///< also write JUnit XML here (verify/junit.hpp); empty: none
+  bool list = false;               ///< print the selected cases and run nothing
+  /// Append the run to this SQLite history (verify/history.hpp); empty: beside the report,
+  /// `<report dir>.history.sqlite`, or none with --no-report.
+  std::string history;
+  bool no_history = false;
   bool update_baseline = false;
   std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
   bool no_report = false;
@@ -84,6 +91,29 @@ struct VerifyOptions {
 /// 1 otherwise.
 int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out,
                    std::ostream& progress);
+
+struct DiffCommandOptions {
+  std::string before, after;  ///< report directories, their results.json, or history run ids
+  double tolerance = 0.05;    ///< relative change that counts
+  std::string history;        ///< the history file run ids refer to
+};
+/// `mfv diff A B` (verify/diff.hpp): prints what moved from run A to run B; returns 1 when
+/// something got worse (a number beyond the tolerance, a verdict that flipped for the worse,
+/// a measurement lost), else 0.
+int command_diff(const DiffCommandOptions& o, std::ostream& out);
+
+/// Runs the history judges drift over.
+inline constexpr int kHistoryWindow = 10;
+
+struct HistoryCommandOptions {
+  std::string history;   ///< the SQLite file
+  std::string subject;   ///< "CASE", "CASE/QUANTITY" or empty (the runs)
+  std::string quantity;  ///< or given apart
+  int last = 20;
+};
+/// `mfv history`: the runs recorded; a case's quantities with their trend; one quantity over
+/// the last runs (time, commit, value).
+int command_history(const HistoryCommandOptions& o, std::ostream& out);
 
 /// `mfv manifest-ctest`: writes a CTest script with one test per manifest case
 /// (`mfv verify <manifest> --case <id> --no-report`), labelled regression, problem, method and

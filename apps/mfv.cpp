@@ -12,7 +12,9 @@
 #include "apps/commands.hpp"
 #include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
+#include "methods/core/names.hpp"
 #include "methods/core/petsc_session.hpp"
+#include "verify/provenance.hpp"
 
 namespace {
 
@@ -74,8 +76,15 @@ int main(int argc, char** argv) {
   CLI::App app{"mfv: verification suite for meshfree particle methods"};
   app.require_subcommand(1);
 
-  auto* list = app.add_subcommand("list", "name every kernel, approximation, method and problem "
-                                          "with its parameters");
+  // Provenance is read only when asked for: /proc/cpuinfo is no business of every run.
+  app.set_version_flag("--version", [] { return mfv::version_text(mfv::provenance()); },
+                       "version, commit, compiler, build type, libraries and machine");
+  std::string list_what;
+  auto* list = app.add_subcommand("list", "name the kernels, approximations, integration rules, "
+                                          "methods, problems and analyses");
+  list->add_option("what", list_what,
+                   "a kind (kernels, methods, problems, analyses, ...) to list with every "
+                   "parameter, or one name to show");
 
   mfv::RunOptions run;
   auto* cmd_run = app.add_subcommand("run", "run one case and print its errors");
@@ -185,7 +194,18 @@ int main(int argc, char** argv) {
   cmd_verify->add_option("manifest", ver.manifest, "suite manifest (TOML), e.g. suites/default.toml")
       ->required();
   cmd_verify->add_flag("--full", ver.full, "the paper-size resolutions (full_nodes)");
-  cmd_verify->add_option("--case", ver.cases, "run only this case id (repeatable)");
+  cmd_verify->add_option("--case", ver.cases,
+                         "run only this case: an id or a glob such as 'rod-pulse/*' (repeatable)");
+  cmd_verify->add_flag("--list", ver.list, "print the cases that would run, and run none");
+  auto* ver_history = cmd_verify->add_option(
+      "--history", ver.history,
+      "append this run to this SQLite history (default: <report dir>.history.sqlite beside "
+      "the report; none with --no-report)")->check(non_empty_path("--history"));
+  cmd_verify->add_flag("--no-history", ver.no_history, "append to no history")
+      ->excludes(ver_history);
+  cmd_verify->add_option("--junit", ver.junit,
+                         "also write the verdicts as JUnit XML to this file (for CI test views)")
+      ->check(non_empty_path("--junit"));
   cmd_verify->add_flag("--update-baseline", ver.update_baseline,
                        "record this run's numbers as the baseline");
   auto* ver_report =
@@ -195,6 +215,35 @@ int main(int argc, char** argv) {
   cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report");
   cmd_verify->add_flag("--force", ver.force, "replace an earlier mfv report even if files were "
                                              "added to it");
+
+  mfv::DiffCommandOptions diff;
+  auto* cmd_diff = app.add_subcommand(
+      "diff", "what changed between two verification runs: numbers beyond a tolerance, "
+              "verdicts flipped, cases added or removed; exit 1 when something got worse");
+  cmd_diff->add_option("before", diff.before, "the earlier run: a report directory, its "
+                                              "results.json, or a run id of --history")
+      ->required();
+  cmd_diff->add_option("after", diff.after, "the later run")->required();
+  cmd_diff->add_option("--history", diff.history, "the history file that run ids refer to");
+  cmd_diff->add_option("--tolerance", diff.tolerance,
+                       "relative change that counts (default 0.05)")
+      ->check(finite_in(1e-15, 1e6, false, "--tolerance"));
+
+  mfv::HistoryCommandOptions hist;
+  hist.history = "reports/default.history.sqlite";
+  auto* cmd_history = app.add_subcommand(
+      "history", "a verification history: the runs; a case's quantities with their trend; one "
+                 "quantity over the runs");
+  cmd_history->add_option("subject", hist.subject,
+                          "CASE or CASE/QUANTITY (e.g. 'rod-pulse/sph/L2 rate (least squares)'); "
+                          "none: the runs");
+  cmd_history->add_option("quantity", hist.quantity, "the quantity, when not in CASE/QUANTITY");
+  cmd_history->add_option("--history", hist.history,
+                          "the SQLite history (default reports/default.history.sqlite, the "
+                          "nightly's)")
+      ->check(non_empty_path("--history"));
+  cmd_history->add_option("--last", hist.last, "how many runs (default 20)")
+      ->check(CLI::Range(1, 1000000));
 
   std::string ctest_manifest, ctest_output, ctest_mfv;
   auto* cmd_ctest = app.add_subcommand(
@@ -222,9 +271,9 @@ int main(int argc, char** argv) {
       names.push_back(sub->get_name());
     if (argc > 1 && argv[1][0] != '-' &&
         std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-      std::cerr << fmt::format("mfv: input error: unknown subcommand '{}'; subcommands: {} (see "
-                               "mfv --help)\n",
-                               argv[1], fmt::join(names, ", "));
+      std::cerr << fmt::format("mfv: input error: unknown subcommand '{}'; {}subcommands: {} "
+                               "(see mfv --help)\n",
+                               argv[1], mfv::did_you_mean(argv[1], names), fmt::join(names, ", "));
       return 2;
     }
     app.exit(e);
@@ -238,6 +287,8 @@ int main(int argc, char** argv) {
     dis.report.clear();
     ver.report.clear();
     ver.update_baseline = false;
+    ver.junit.clear();
+    ver.no_history = true;
     cmp.report.clear();
   }
   // What the command printed must reach its reader: a full disk or a closed pipe behind
@@ -260,7 +311,7 @@ int main(int argc, char** argv) {
   try {
     const mfv::Catalogue catalogue;
     if (*list) {
-      mfv::command_list(catalogue, out);
+      mfv::command_list(catalogue, list_what, out);
       status = flushed(0);
     } else if (*cmd_ctest) {
       if (rank == 0) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
@@ -283,6 +334,10 @@ int main(int argc, char** argv) {
       status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
     } else if (*cmd_compare) {
       status = flushed(mfv::command_compare(catalogue, cmp, out, err_progress));
+    } else if (*cmd_history) {
+      status = flushed(mfv::command_history(hist, out));
+    } else if (*cmd_diff) {
+      status = flushed(mfv::command_diff(diff, out));
     } else if (*cmd_verify) {
       status = flushed(mfv::command_verify(catalogue, ver, out, err_progress));
     }

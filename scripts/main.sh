@@ -17,4 +17,8 @@ done
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
+# Idle OpenMP threads sleep instead of spinning: on a loaded machine spinning threads burn
+# the CPU seconds the report records (issue 28 measured the spread; README). A caller's own
+# setting wins.
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 build/release/apps/mfv verify suites/default.toml "${full[@]}" --report "reports/$run"

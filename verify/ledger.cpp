@@ -1250,19 +1250,8 @@ std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
   return md;
 }
 
-std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries) {
-  std::string md = counts_markdown(entries, false) + "\n";
-  md += "| id | source | claim | ours/paper (or −) | verdict | evidence |\n"
-        "|:--|:--|:--|--:|:--|:--|\n";
-  for (const auto& e : entries) {
-    const LedgerRow& row = *e.row;
-    const bool compared = row.kind == LedgerRow::Kind::published ||
-                          row.kind == LedgerRow::Kind::measure;
-    md += fmt::format("| {} | {} | {} | {} | **{}** | {} |\n", cell(row.id), cell(row.source),
-                      cell(row.claim), compared ? cell(comparison_text(e)) : "–", e.verdict,
-                      cell(e.evidence));
-  }
-  return md;
+std::string ledger_counts_markdown(const std::vector<LedgerEntry>& entries) {
+  return counts_markdown(entries, true);
 }
 
 std::string ledger_csv(const std::vector<LedgerEntry>& entries) {

@@ -236,9 +236,9 @@ std::string ledger_section(const LedgerRow& row);
 /// paper the rows (id, claim, paper, ours, ratio/difference, tolerance, verdict, evidence,
 /// reading), then per row the readings tried and the checks.
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries);
-/// The ledger as index.md shows it: the counts per paper, then one short row per claim (id,
-/// source, claim, ours/paper, verdict, evidence); the full page (ledger_markdown) is apart.
-std::string ledger_summary_markdown(const std::vector<LedgerEntry>& entries);
+/// The verdict and evidence counts per paper and per section (index.md's ledger; the rows are
+/// ledger.md's).
+std::string ledger_counts_markdown(const std::vector<LedgerEntry>& entries);
 /// ledger.csv (RFC 4180 quoting): a row per claim, with its evidence, the reading its verdict
 /// comes from, and every reading and check tried with its values.
 std::string ledger_csv(const std::vector<LedgerEntry>& entries);

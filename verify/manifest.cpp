@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cerrno>
 #include <fcntl.h>
+#include <fnmatch.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include <toml++/toml.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/names.hpp"
 
 namespace mfv {
 
@@ -103,21 +105,6 @@ std::string type_name(const toml::node& n) {
     case toml::node_type::date_time: return "a date-time";
     default: return "nothing";
   }
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 /// Refuses keys outside `valid`, naming the closest valid key when it looks like a typo.
@@ -398,8 +385,32 @@ const ManifestCase& Manifest::find(const std::string& id) const {
     if (c.id == id) return c;
   std::vector<std::string> ids;
   for (const auto& c : cases) ids.push_back(c.id);
-  throw InputError(fmt::format("no case '{}' in manifest {}; valid ids: {}", id, path.string(),
-                               fmt::join(ids, ", ")));
+  throw InputError(fmt::format("no case '{}' in manifest {}; {}{} cases: `mfv verify {} --list` "
+                               "names them",
+                               id, path.string(), did_you_mean(id, ids), ids.size(),
+                               path.string()));
+}
+
+std::vector<const ManifestCase*> Manifest::select(const std::string& pattern) const {
+  std::vector<const ManifestCase*> out;
+  // An id that is itself a case wins over reading it as a pattern (ids may hold '[').
+  for (const auto& c : cases)
+    if (c.id == pattern) return {&c};
+  const bool glob = pattern.find_first_of("*?[") != std::string::npos;
+  if (glob)
+    for (const auto& c : cases)
+      if (::fnmatch(pattern.c_str(), c.id.c_str(), 0) == 0) out.push_back(&c);
+  if (!out.empty()) return out;
+  std::vector<std::string> ids;
+  for (const auto& c : cases) ids.push_back(c.id);
+  const auto near = near_matches(pattern, ids, 5);
+  std::string hint;
+  if (!near.empty()) hint = fmt::format("near ones: {}; ", fmt::join(near, ", "));
+  throw InputError(fmt::format("{} '{}' matches no case of manifest {}; {}{} cases: `mfv verify "
+                               "{} --list` names them{}",
+                               glob ? "the pattern" : "the id", pattern, path.string(), hint,
+                               ids.size(), path.string(),
+                               glob ? "" : " (a pattern takes *, ? and [...], e.g. 'rod-pulse/*')"));
 }
 
 Manifest load_manifest(const std::filesystem::path& path) {

@@ -95,8 +95,12 @@ struct Manifest {
   double drift_tolerance = 0.05, drift_floor = 1e-12;
   std::vector<ManifestCase> cases;  ///< in file order
 
-  /// The case with this id; throws InputError listing the valid ids.
+  /// The case with this id; InputError naming the near ids ("did you mean") otherwise.
   const ManifestCase& find(const std::string& id) const;
+  /// The cases `pattern` names: an id, or a shell glob over the ids (`*`, `?`, `[…]`, as
+  /// fnmatch(3); "rod-pulse/*", "*-eulerian*"), in manifest order. InputError when nothing
+  /// matches, with the near ids ("did you mean") and the count of cases, never all of them.
+  std::vector<const ManifestCase*> select(const std::string& pattern) const;
 };
 
 /// The band metric names accepted in [case.bands] (besides `headline`), in report order.

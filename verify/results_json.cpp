@@ -1,5 +1,7 @@
 #include "verify/results_json.hpp"
 
+#include "verify/provenance.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -180,7 +182,10 @@ json run_json(const RunInfo& run) {
           {"generated_utc", run.generated_utc},
           {"machine", {{"cores", run.cores}}},
           {"wall_seconds", run.wall_seconds},
-          {"cpu_seconds", run.cpu_seconds}};
+          {"cpu_seconds", run.cpu_seconds},
+          // What built the numbers and where they ran: two runs' numbers are comparable only
+          // when these say so (issue 28).
+          {"provenance", provenance_json(provenance())}};
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/names.hpp"
 
 namespace mfv {
 
@@ -82,6 +83,12 @@ std::string join_names(const ParamSchema& schema) {
   std::string out;
   for (const auto& s : schema) out += (out.empty() ? "" : ", ") + s.name;
   return out.empty() ? "(none: this plugin takes no parameters)" : out;
+}
+
+std::vector<std::string> spec_names(const ParamSchema& schema) {
+  std::vector<std::string> out;
+  for (const auto& s : schema) out.push_back(s.name);
+  return out;
 }
 
 /// The spec `key` names, by its name or a deprecated alias; null when none does.
@@ -243,8 +250,9 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
   for (const auto& [key, value] : values_) {
     const ParamSpec* spec = find_spec(schema, key);
     if (!spec)
-      throw InputError(fmt::format("unknown parameter '{}' for {}; valid parameters: {}", key,
-                                   owner, join_names(schema)));
+      throw InputError(fmt::format("unknown parameter '{}' for {}; {}valid parameters: {}", key,
+                                   owner, did_you_mean(key, spec_names(schema)),
+                                   join_names(schema)));
     auto [it, fresh] = given.try_emplace(spec->name, key, value);
     if (!fresh) {
       const std::string& other = it->second.first;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/names.hpp"
 #include "methods/core/params.hpp"
 
 namespace mfv {
@@ -41,8 +42,8 @@ class Registry {
   const Entry& entry(const std::string& name) const {
     auto it = entries_.find(name);
     if (it == entries_.end())
-      throw InputError(fmt::format("unknown {} '{}'; valid {}s: {}", kind_, name, kind_,
-                                   fmt::join(keys(), ", ")));
+      throw InputError(fmt::format("unknown {} '{}'; {}valid {}s: {}", kind_, name,
+                                   did_you_mean(name, keys()), kind_, fmt::join(keys(), ", ")));
     return it->second;
   }
 
