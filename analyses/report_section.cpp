@@ -216,22 +216,32 @@ std::vector<PublishedRow> published_rows(const Problem& problem,
 
 std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
                                   const std::vector<StudyResult>& studies,
-                                  const std::vector<VtkPart>& parts) {
+                                  const std::vector<VtkPart>& parts, bool finest_only) {
   std::string md;
   for (const auto& s : studies) {
     const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
     std::filesystem::create_directories(dir / sub);
     std::vector<std::pair<double, std::string>> entries;
-    for (const auto& c : s.cases)
+    for (std::size_t k = finest_only && !s.cases.empty() ? s.cases.size() - 1 : 0;
+         k < s.cases.size(); ++k)
       for (const auto& [suffix, write] : parts) {
+        const CaseResult& c = s.cases[k];
         const std::string name = fmt::format("n{}{}", c.spec.nodes, suffix);
         write(dir / sub / name, c);
         entries.emplace_back(c.h, name);  // ParaView's time axis: the spacing h
       }
     write_pvd(dir / sub / "study.pvd", entries);
-    md += fmt::format("- `{}`: [{}/study.pvd]({}{}/study.pvd) (time = h: {})\n", s.label, sub,
-                      kPageUp, sub, fmt::join(spacings(s), ", "));
+    md += finest_only
+              ? fmt::format("- `{}`: [{}/study.pvd]({}{}/study.pvd) (the finest resolution, h = "
+                            "{})\n",
+                            s.label, sub, kPageUp, sub,
+                            s.cases.empty() ? std::string("–") : spacings(s).back())
+              : fmt::format("- `{}`: [{}/study.pvd]({}{}/study.pvd) (time = h: {})\n", s.label,
+                            sub, kPageUp, sub, fmt::join(spacings(s), ", "));
   }
+  if (finest_only)
+    md += "\nThe finest resolution of each study only (`--vtk=finest`, the nightly's default); "
+          "`--vtk=all` writes every resolution.\n";
   return md + "\n";
 }
 
@@ -451,7 +461,8 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
         "the densely sampled solution as a line; open the `.pvd` in ParaView and step "
         "through the resolutions: its time axis is the particle spacing h.\n\n" +
         write_vtk_collections(dir, base, section.studies,
-                              {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}});
+                              {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}},
+                              section.vtk_finest_only);
   return section_page(catalogue, *problem, section, title, std::move(page));
 }
 

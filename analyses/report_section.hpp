@@ -22,6 +22,9 @@ struct ReportSection {
   Params problem_params;
   std::vector<StudyResult> studies;
   std::vector<std::string> failures;  ///< "label: message" of studies that could not run
+  /// VTK of each study's finest resolution only (`--vtk=finest`, the nightly's default:
+  /// the fields of every resolution were 94 % of a report); false: every resolution.
+  bool vtk_finest_only = false;
 };
 
 /// Groups studies by (problem, analysis) — and by the problem parameters where the analysis
@@ -156,9 +159,10 @@ using VtkPart = std::pair<std::string, std::function<void(const std::filesystem:
 /// whose time axis is the particle spacing h (ParaView's "time" steps through the
 /// resolutions, finest first); returns the Markdown list of links to the .pvd files,
 /// relative to a page (through kPageUp).
+/// With `finest_only`, each study's finest resolution alone (the .pvd then holds one step).
 std::string write_vtk_collections(const std::filesystem::path& dir, const std::string& base,
                                   const std::vector<StudyResult>& studies,
-                                  const std::vector<VtkPart>& parts);
+                                  const std::vector<VtkPart>& parts, bool finest_only = false);
 
 /// The convergence judgement (reports/convergence.hpp) of `error` over a study's cases.
 ConvergenceJudgement judge_study(const StudyResult& study,

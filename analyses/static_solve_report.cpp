@@ -204,7 +204,8 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
         "through the resolutions: its time axis is the particle spacing h.\n\n" +
         write_vtk_collections(
             dir, base, section.studies,
-            {{".vtp", write_particles_vtp}, {"-quadrature.vtp", write_quadrature_vtp}});
+            {{".vtp", write_particles_vtp}, {"-quadrature.vtp", write_quadrature_vtp}},
+            section.vtk_finest_only);
   return section_page(catalogue, *problem, section, title, std::move(page));
 }
 

@@ -335,6 +335,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
     for (const auto& s : section.studies)
       for (const auto& r : s.cases) {
         if (r.data<TransientData>().frames.empty()) continue;
+        if (section.vtk_finest_only && &r != &s.cases.back()) continue;
         const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
         VtuSeriesWriter w(dir / sub, fmt::format("n{}", r.spec.nodes));
         for (const auto& f : r.data<TransientData>().frames) {
@@ -348,6 +349,9 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         page.vtk += fmt::format("- `{}` n={}: [{}/n{}.pvd]({}{}/n{}.pvd)\n", s.label, r.spec.nodes,
                                 sub, r.spec.nodes, kPageUp, sub, r.spec.nodes);
       }
+    if (section.vtk_finest_only)
+      page.vtk += "\nThe finest resolution of each study only (`--vtk=finest`, the nightly's "
+                  "default); `--vtk=all` writes every resolution.\n";
     page.vtk += "\n";
   }
   return section_page(catalogue, *problem, section, title, std::move(page));

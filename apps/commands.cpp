@@ -190,10 +190,11 @@ std::string heading_anchor(const std::string& heading) {
 /// checked and locked before the computation) and swaps it in for the target. A kProblemsToc marker in the head becomes a list of links to the
 /// sections' first "## " headings.
 void write_report(const Catalogue& c, StagedDirectory& staged, const std::string& head,
-                  const std::vector<ReportSection>& sections, bool vtk,
+                  std::vector<ReportSection> sections, bool vtk, bool vtk_finest_only,
                   const std::vector<std::pair<std::string, std::string>>& files = {}) {
   std::string body, toc;
-  for (const auto& s : sections) {
+  for (auto& s : sections) {
+    s.vtk_finest_only = vtk_finest_only;
     const std::string md = write_problem_section(c, s, staged.path(), vtk);
     const auto at = md.rfind("## ", 0) == 0 ? 0 : md.find("\n## ");
     if (at != std::string::npos) {
@@ -349,11 +350,11 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
   spec.analysis = o.analysis;
   const auto problem = create_problem(c, spec.problem, spec.problem_params);
   spec.nodes = o.nodes > 0 ? o.nodes : problem->resolutions(Level::standard).front();
-  const std::filesystem::path dir =
-      o.report.empty() ? std::filesystem::path("reports") / slug(spec.problem + "-" + spec.method)
-                       : std::filesystem::path(o.report);
+  // A report only with -r, as run, study and compare (issue 28: it used to write
+  // ./reports/<problem>-<method> unasked).
+  const std::filesystem::path dir(o.report);
   std::unique_ptr<StagedDirectory> staged;
-  if (!o.no_report) staged = stage_report(dir, o.force, spec.problem);
+  if (!o.no_report && !o.report.empty()) staged = stage_report(dir, o.force, spec.problem);
   petsc::checks_done();  // under mpirun: every rank's checks passed before any collective work
   StudyResult study;
   study.label = study_label(spec);
@@ -383,7 +384,7 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
                fmt::format("# mfv analysis: {} with {}\n\n{}\n\nMachine-readable: "
                            "[results.json](results.json).\n\n",
                            spec.problem, spec.method, machine_line(wall, cpu)),
-               sections, false, {{"results.json", results}});
+               std::move(sections), false, false, {{"results.json", results}});
   out << fmt::format("report    {}\n", (dir / "index.md").string());
   return status;
 }
@@ -548,7 +549,8 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
       write_file_atomic(staged->path() / "index.md", head);
       staged->commit();
     } else {
-      write_report(c, *staged, head, sections, o.vtk, {{"results.json", results}});
+      write_report(c, *staged, head, std::move(sections), o.vtk, o.vtk_finest_only,
+                   {{"results.json", results}});
     }
     out << fmt::format("report: {}/index.md\n", o.report);
   }
@@ -1074,7 +1076,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       files.emplace_back("ledger.csv", ledger_csv(entries));
       files.emplace_back("ledger.json", ledger_json_text(*ledger, entries));
     }
-    write_report(c, *staged, head, sections, o.vtk, files);
+    write_report(c, *staged, head, std::move(sections), o.vtk, o.vtk_finest_only, files);
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
   return failed == 0 ? 0 : 1;

@@ -35,6 +35,7 @@ struct CompareOptions {
   double perturbation = 0;
   std::string report;  ///< report directory; empty: print only
   bool vtk = true;
+  bool vtk_finest_only = false;  ///< --vtk=finest: each study's finest resolution only
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };
 /// `mfv study` / `mfv compare`: refinement studies of one or several methods on one problem;
@@ -54,8 +55,8 @@ std::string convergence_table(const Registries& plugins, const StudyResult& s);
 struct AnalyseOptions {
   std::string problem, method, method_params, problem_params;
   int nodes = 0;       ///< 0: the problem's first standard resolution
-  std::string report;  ///< report directory; empty: reports/<problem>-<method>
-  bool no_report = false;
+  std::string report;  ///< report directory; empty: print only, as run, study and compare
+  bool no_report = false;  ///< kept for scripts: print only (the default now)
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
   std::string analysis;  ///< empty: the problem's default analysis
 };
@@ -83,6 +84,8 @@ struct VerifyOptions {
   std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
   bool no_report = false;
   bool vtk = true;
+  /// --vtk=finest (the command line's default for verify): each study's finest resolution only.
+  bool vtk_finest_only = false;
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };
 /// `mfv verify`: runs a manifest's studies, checks every band and the baseline, writes the

@@ -339,6 +339,26 @@ TEST_F(Nightly, ConcurrentWritersTakeTurnsAndASlowCreepIsFound) {
   EXPECT_TRUE(h.drifts(jump, 3, 0.05).empty());
 }
 
+TEST_F(Nightly, VtkFinestWritesEachStudysFinestResolutionAndSaysHowToGetTheRest) {
+  for (const bool finest : {true, false}) {
+    VerifyOptions o = options(two_cases());
+    o.cases = {"lt/fem"};
+    o.no_report = false;
+    o.no_history = true;
+    o.report = (dir_ / (finest ? "finest" : "all")).string();
+    o.vtk = true;
+    o.vtk_finest_only = finest;
+    std::ostringstream out, progress;
+    ASSERT_EQ(command_verify(catalogue_, o, out, progress), 0) << out.str();
+    const fs::path study = fs::path(o.report) / "vtk" / "laplace-tanh" / "lt-fem";
+    EXPECT_TRUE(fs::exists(study / "n41.vtp"));
+    EXPECT_TRUE(fs::exists(study / "study.pvd"));
+    EXPECT_EQ(fs::exists(study / "n21.vtp"), !finest);
+    const std::string page = read(fs::path(o.report) / "problems" / "laplace-tanh.md");
+    EXPECT_EQ(page.find("--vtk=all") != std::string::npos, finest) << page;
+  }
+}
+
 TEST(Names, NearMatchesFindTyposAndPrefixesAndNothingFar) {
   const std::vector<std::string> valid = {"kbm-si", "kbm-ni", "kbm-ci", "sph", "efg"};
   EXPECT_EQ(near_matches("kbm-sj", valid).front(), "kbm-si");
