@@ -1013,6 +1013,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     head += "- [Regression](#regression) (every case: [regression.md](regression.md))\n";
     if (ledger) head += "- [Reproduction ledger](#reproduction-ledger) (in full: [ledger.md](ledger.md))\n";
     head += fmt::format("- Problems\n{}\n", kProblemsToc);
+    head += o.vtk ? (o.vtk_finest_only ? "VTK fields: each study's finest resolution "
+                                         "(`--vtk=all` writes every resolution).\n\n"
+                                       : "VTK fields: every resolution.\n\n")
+                  : "VTK fields: none written (`mfv verify … --vtk=finest` writes each study's "
+                    "finest resolution, `--vtk=all` every resolution, for ParaView).\n\n";
     head += "Machine-readable: [results.json](results.json) (every case, the regression "
             "verdicts and the ledger; schema in docs/results-schema.md)";
     if (ledger) head += ", [ledger.csv](ledger.csv), [ledger.json](ledger.json)";

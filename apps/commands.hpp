@@ -83,8 +83,8 @@ struct VerifyOptions {
   bool update_baseline = false;
   std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
   bool no_report = false;
-  bool vtk = true;
-  /// --vtk=finest (the command line's default for verify): each study's finest resolution only.
+  bool vtk = true;  ///< the command line's default for verify is false (--vtk=none)
+  /// --vtk=finest: each study's finest resolution only.
   bool vtk_finest_only = false;
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
 };

@@ -191,6 +191,10 @@ RunDiff diff_runs(const RunRecord& before, const RunRecord& after, const DiffOpt
   for (const auto& [row, va] : a.ledger_verdicts) {
     const auto it = b.ledger_verdicts.find(row);
     if (it == b.ledger_verdicts.end() || it->second == va) continue;
+    if (va == kNotRun || it->second == kNotRun) {
+      d.ledger_not_compared.push_back(row);
+      continue;
+    }
     const int ra = ledger_rank(va), rb = ledger_rank(it->second);
     const Dir dir = ra < 0 || rb < 0 ? Dir::moved : rb > ra ? Dir::worse : Dir::better;
     d.verdicts.push_back({dir, "", "ledger " + row, va, it->second, 0});
@@ -246,10 +250,22 @@ std::string diff_text(const RunDiff& d, bool md) {
   section("Worse", Dir::worse);
   section("Better", Dir::better);
   section("Moved", Dir::moved);
+  // Long lists are cut in the report (its first screen is for what changed); the text lists all.
+  auto some = [md](const std::vector<std::string>& ids) {
+    constexpr std::size_t kShown = 8;
+    if (!md || ids.size() <= kShown) return fmt::format("{}", fmt::join(ids, ", "));
+    return fmt::format("{} and {} more", fmt::join(ids.begin(), ids.begin() + kShown, ", "),
+                       ids.size() - kShown);
+  };
   if (!d.added.empty())
-    out += fmt::format("{}Cases added: {}\n", md ? "\n" : "", fmt::join(d.added, ", "));
+    out += fmt::format("{}Cases added ({}): {}\n", md ? "\n" : "", d.added.size(), some(d.added));
   if (!d.removed.empty())
-    out += fmt::format("{}Cases removed: {}\n", md ? "\n" : "", fmt::join(d.removed, ", "));
+    out += fmt::format("{}Cases removed ({}): {}\n", md ? "\n" : "", d.removed.size(),
+                       some(d.removed));
+  if (!d.ledger_not_compared.empty())
+    out += fmt::format("{}Ledger rows not compared, their cases ran in one of the runs only "
+                       "({}): {}\n",
+                       md ? "\n" : "", d.ledger_not_compared.size(), some(d.ledger_not_compared));
   return out;
 }
 

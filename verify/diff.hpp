@@ -59,6 +59,8 @@ struct RunDiff {
   std::vector<DiffEntry> numbers;         ///< values beyond the tolerance
   std::vector<DiffEntry> verdicts;        ///< regression and ledger verdicts that flipped
   std::vector<std::string> added, removed;  ///< case ids
+  /// Ledger rows whose case ran in one run only ("not run" in the other): not a flip.
+  std::vector<std::string> ledger_not_compared;
   int worse() const;
   int better() const;
 };
