@@ -19,6 +19,7 @@
 #include "methods/core/errors.hpp"
 #include "methods/core/names.hpp"
 #include "reports/atomic.hpp"
+#include "reports/convergence_table.hpp"
 #include "reports/markdown.hpp"
 #include "analyses/report_section.hpp"
 #include "analyses/case_vtk.hpp"
@@ -185,6 +186,43 @@ std::string heading_anchor(const std::string& heading) {
   return out;
 }
 
+/// Every study's convergence table as CSV and LaTeX (booktabs) under tables/<problem>/:
+/// h, the particle count, the relative L2, H1-seminorm and (2D) energy errors on the common
+/// rule with their pairwise and least-squares rates, and CPU seconds. Returns the index's
+/// line about them ("" when no study has two resolutions).
+std::string write_convergence_tables(const std::filesystem::path& dir,
+                                     const std::vector<ReportSection>& sections) {
+  int written = 0;
+  for (const auto& section : sections)
+    for (const auto& s : section.studies) {
+      if (s.cases.size() < 2) continue;  // one resolution has no rate to tabulate
+      ConvergenceTable t("h");
+      const bool vector = s.cases.front().components > 1;
+      for (const auto& c : s.cases) {
+        t.add_row({{"h", c.h},
+                   {"particles", static_cast<double>(c.particles)},
+                   {"L2 relative", c.errors.l2_rel},
+                   {"H1-seminorm relative", c.errors.h1_semi_rel}});
+        if (vector) t.add_value("energy relative", c.errors.energy_rel);
+        t.add_value("CPU s", c.cpu.total());
+      }
+      t.omit_from_rates("particles");
+      t.omit_from_rates("CPU s");
+      t.set_format("particles", [](double v) { return fmt::format("{:.0f}", v); });
+      t.evaluate_all_rates();
+      const std::filesystem::path sub =
+          dir / "tables" / slug(section.problem) / slug(s.label.empty() ? "study" : s.label);
+      std::filesystem::create_directories(sub.parent_path());
+      write_file_atomic(sub.string() + ".csv", t.csv());
+      write_file_atomic(sub.string() + ".tex", t.tex());
+      ++written;
+    }
+  return written == 0 ? ""
+                      : fmt::format("Convergence tables of the {} studies with two or more "
+                                    "resolutions, as CSV and LaTeX (`booktabs`): `tables/`.\n\n",
+                                    written);
+}
+
 /// Writes index.md (the head, then each section's summary), the files beside it (name →
 /// content, e.g. results.json) and the sections' own files into the staging directory (made,
 /// checked and locked before the computation) and swaps it in for the target. A kProblemsToc marker in the head becomes a list of links to the
@@ -207,6 +245,7 @@ void write_report(const Catalogue& c, StagedDirectory& staged, const std::string
   std::string md = head;
   if (const auto marker = md.find(kProblemsToc); marker != std::string::npos)
     md.replace(marker, std::string(kProblemsToc).size(), toc);
+  md += write_convergence_tables(staged.path(), sections);
   md += body;
   for (const auto& [name, content] : files) write_file_atomic(staged.path() / name, content);
   write_file_atomic(staged.path() / "index.md", md);

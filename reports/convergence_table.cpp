@@ -178,6 +178,53 @@ std::string ConvergenceTable::markdown() const {
   return t.str();
 }
 
+namespace {
+
+/// Text as LaTeX typesets it: its special characters escaped, the en dash of an empty rate
+/// cell as "--".
+std::string tex_text(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char ch = s[i];
+    if (s.compare(i, 3, "\xE2\x80\x93") == 0) {  // U+2013
+      out += "--";
+      i += 2;
+      continue;
+    }
+    switch (ch) {
+      case '&': case '%': case '$': case '#': case '_': case '{': case '}':
+        out += '\\';
+        out += ch;
+        break;
+      case '~': out += "\\textasciitilde{}"; break;
+      case '^': out += "\\textasciicircum{}"; break;
+      case '\\': out += "\\textbackslash{}"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+std::string tex_row(const std::vector<std::string>& cells) {
+  std::vector<std::string> t;
+  for (const auto& c : cells) t.push_back(tex_text(c));
+  return fmt::format("{} \\\\\n", fmt::join(t, " & "));
+}
+
+}  // namespace
+
+std::string ConvergenceTable::tex() const {
+  const std::vector<std::string> head = header();
+  std::string out = fmt::format("\\begin{{tabular}}{{{}}}\n\\toprule\n", std::string(head.size(), 'r'));
+  out += tex_row(head) + "\\midrule\n";
+  for (const auto& row : cells()) out += tex_row(row);
+  // The footer row exactly when markdown() shows it.
+  if (std::any_of(data_.begin(), data_.end(),
+                  [](const Column& d) { return d.rated || !d.footer.empty(); }))
+    out += "\\midrule\n" + tex_row(footer());
+  return out + "\\bottomrule\n\\end{tabular}\n";
+}
+
 std::string ConvergenceTable::csv() const {
   std::vector<std::string> names;
   for (const auto& h : header()) names.push_back(csv_field(h));

@@ -97,6 +97,10 @@ class ConvergenceTable {
   /// per row with every value in shortest round-trip form ("nan" for NaN) and the pairwise rates
   /// (empty in the first row). No least-squares row: the file stays rectangular and numeric.
   std::string csv() const;
+  /// header(), cells() and footer() as a LaTeX `booktabs` tabular (as deal.II's
+  /// ConvergenceTable::write_tex): \toprule, the header, \midrule, the rows, \midrule and
+  /// the footer row when markdown() shows it, \bottomrule; text escaped for LaTeX.
+  std::string tex() const;
 
  private:
   std::size_t index(const std::string& column) const;  ///< throws for an unknown column

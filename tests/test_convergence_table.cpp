@@ -265,6 +265,20 @@ TEST(ColumnConvergenceTable, CsvHoldsEveryValueRoundTripAndThePairwiseRates) {
   EXPECT_EQ(bits(std::stod(rate_text)), bits(r[0])) << rate_text;
 }
 
+TEST(ColumnConvergenceTable, TexIsABooktabsTabularWithEscapedTextAndTheFooter) {
+  ConvergenceTable t;
+  t.add_row({{"h", 0.1}, {"L2_rel & 100%", 0.4}});
+  t.add_row({{"h", 0.05}, {"L2_rel & 100%", 0.1}});
+  t.evaluate_rates("L2_rel & 100%");
+  const std::string tex = t.tex();
+  EXPECT_EQ(tex.rfind("\\begin{tabular}{rrr}\n\\toprule\n", 0), 0u) << tex;
+  EXPECT_NE(tex.find("L2\\_rel \\& 100\\%"), std::string::npos) << tex;
+  EXPECT_NE(tex.find("-- \\\\"), std::string::npos) << "the first row's rate: " << tex;
+  EXPECT_NE(tex.find("\\midrule\nleast squares"), std::string::npos) << tex;
+  EXPECT_NE(tex.find("2.00"), std::string::npos) << tex;
+  EXPECT_TRUE(tex.ends_with("\\bottomrule\n\\end{tabular}\n")) << tex;
+}
+
 /// study_rates (analyses/norms.hpp) reads its rates off a table of the study's errors; they
 /// must equal, bit for bit, the slopes fitted_rate and pairwise_rates give on the raw errors
 /// (what the rates were before the table), so no baseline number moves.

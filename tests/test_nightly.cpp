@@ -356,6 +356,15 @@ TEST_F(Nightly, VtkFinestWritesEachStudysFinestResolutionAndSaysHowToGetTheRest)
     EXPECT_EQ(fs::exists(study / "n21.vtp"), !finest);
     const std::string page = read(fs::path(o.report) / "problems" / "laplace-tanh.md");
     EXPECT_EQ(page.find("--vtk=all") != std::string::npos, finest) << page;
+    // Every study's convergence table as CSV and LaTeX.
+    const fs::path table = fs::path(o.report) / "tables" / "laplace-tanh" / "lt-fem";
+    const std::string csv = read(table.string() + ".csv");
+    EXPECT_EQ(csv.rfind("h,particles,L2 relative,L2 relative rate,", 0), 0u) << csv;
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << "a header and two resolutions";
+    const std::string tex = read(table.string() + ".tex");
+    EXPECT_NE(tex.find("\\toprule"), std::string::npos) << tex;
+    EXPECT_NE(tex.find("least squares"), std::string::npos) << tex;
+    EXPECT_NE(tex.find("\\bottomrule"), std::string::npos) << tex;
   }
 }
 
