@@ -51,6 +51,22 @@ CLI::Validator non_empty_path(const std::string& option) {
       "DIR");
 }
 
+/// `--vtk=none|finest|all` and its older spelling `--no-vtk`, setting a command's two VTK
+/// switches; `fallback` names the command's default in the help.
+void add_vtk_policy(CLI::App* c, bool& vtk, bool& finest_only, const std::string& fallback) {
+  c->add_option_function<std::string>(
+       "--vtk",
+       [&vtk, &finest_only](const std::string& v) {
+         vtk = v != "none";
+         finest_only = v == "finest";
+       },
+       fmt::format("VTK fields in the report: none, finest (each study's finest resolution) or "
+                   "all (default: {})",
+                   fallback))
+      ->check(CLI::IsMember({"none", "finest", "all"}));
+  c->add_flag("!--no-vtk", vtk, "leave VTK files out of the report (= --vtk=none)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -121,16 +137,7 @@ int main(int argc, char** argv) {
         ->check(finite_in(0, 0.5, true, "--perturb"));
     c->add_option("--report,-r", cmp.report, "write a report into this directory")
         ->check(non_empty_path("--report"));
-    c->add_option_function<std::string>(
-         "--vtk",
-         [&cmp](const std::string& v) {
-           cmp.vtk = v != "none";
-           cmp.vtk_finest_only = v == "finest";
-         },
-         "VTK fields in the report: none, finest (each study's finest resolution) or all "
-         "(default)")
-        ->check(CLI::IsMember({"none", "finest", "all"}));
-    c->add_flag("!--no-vtk", cmp.vtk, "leave VTK files out of the report (= --vtk=none)");
+    add_vtk_policy(c, cmp.vtk, cmp.vtk_finest_only, "all");
     c->add_flag("--force", cmp.force,
                 "replace an earlier mfv report even if files were added to it (never anything "
                 "that is not an mfv report)");
@@ -227,16 +234,7 @@ int main(int argc, char** argv) {
   // of 223 MB), and the finest resolution's alone still 177 of 206 MB (the transient time
   // series); the report says how to get them.
   ver.vtk = false;
-  cmd_verify->add_option_function<std::string>(
-                "--vtk",
-                [&ver](const std::string& v) {
-                  ver.vtk = v != "none";
-                  ver.vtk_finest_only = v == "finest";
-                },
-                "VTK fields in the report: none (default), finest (each study's finest "
-                "resolution) or all")
-      ->check(CLI::IsMember({"none", "finest", "all"}));
-  cmd_verify->add_flag("!--no-vtk", ver.vtk, "leave VTK files out of the report (= --vtk=none)");
+  add_vtk_policy(cmd_verify, ver.vtk, ver.vtk_finest_only, "none");
   cmd_verify->add_flag("--force", ver.force, "replace an earlier mfv report even if files were "
                                              "added to it");
 

@@ -81,6 +81,14 @@ class Nightly : public ::testing::Test {
     o.no_report = true;
     return o;
   }
+  /// The two-case manifest reported into dir_/report, without VTK (history beside it).
+  VerifyOptions reported() {
+    VerifyOptions o = options(two_cases());
+    o.no_report = false;
+    o.report = (dir_ / "report").string();
+    o.vtk = false;
+    return o;
+  }
   const Catalogue catalogue_;
   fs::path dir_;
 };
@@ -182,10 +190,7 @@ TEST_F(Nightly, CaseGlobsSelectInManifestOrderAndAMissNamesTheNearIds) {
 }
 
 TEST_F(Nightly, DiffNamesExactlyTheValuesThatMovedAndTheReportLeadsWithThem) {
-  VerifyOptions o = options(two_cases());
-  o.no_report = false;
-  o.report = (dir_ / "report").string();
-  o.vtk = false;
+  VerifyOptions o = reported();
   std::ostringstream out, progress;
   ASSERT_EQ(command_verify(catalogue_, o, out, progress), 1) << out.str();
   const std::string first = read(dir_ / "report" / "index.md");
@@ -233,10 +238,7 @@ TEST_F(Nightly, DiffNamesExactlyTheValuesThatMovedAndTheReportLeadsWithThem) {
 }
 
 TEST_F(Nightly, EachRunIsAppendedToTheHistoryWhichAnswersOverTime) {
-  VerifyOptions o = options(two_cases());
-  o.no_report = false;
-  o.report = (dir_ / "report").string();
-  o.vtk = false;
+  VerifyOptions o = reported();
   std::ostringstream out, progress;
   command_verify(catalogue_, o, out, progress);
   command_verify(catalogue_, o, out, progress);
@@ -300,10 +302,7 @@ nlohmann::json with_l2(nlohmann::json j, double l2) {
 }
 
 TEST_F(Nightly, ConcurrentWritersTakeTurnsAndASlowCreepIsFound) {
-  VerifyOptions o = options(two_cases());
-  o.no_report = false;
-  o.report = (dir_ / "report").string();
-  o.vtk = false;
+  VerifyOptions o = reported();
   o.no_history = true;
   std::ostringstream out, progress;
   command_verify(catalogue_, o, out, progress);
