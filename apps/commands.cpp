@@ -676,8 +676,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   std::optional<HistoryStore> history;
   if (!o.no_history) {
     std::filesystem::path file = o.history;
-    if (file.empty() && staged)
-      file = report_dir.parent_path() / (report_dir.filename().string() + ".history.sqlite");
+    if (file.empty() && staged) {
+      // Beside the report, never inside it: "-r reports/x/" names the directory x too.
+      const std::filesystem::path target =
+          report_dir.has_filename() ? report_dir : report_dir.parent_path();
+      file = target.parent_path() / (target.filename().string() + ".history.sqlite");
+    }
     if (!file.empty()) history.emplace(file);
   }
   // The run this report replaces, if it was a verification run: the report leads with what

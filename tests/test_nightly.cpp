@@ -261,6 +261,12 @@ TEST_F(Nightly, EachRunIsAppendedToTheHistoryWhichAnswersOverTime) {
   EXPECT_EQ(command_diff({"1", "2", 0.05, file.string()}, text), 0) << text.str();
   EXPECT_NE(text.str().find("0 worse, 0 better"), std::string::npos) << text.str();
   EXPECT_THROW(command_diff({"1", "7", 0.05, file.string()}, text), InputError);
+  // A report path with a trailing slash keeps its history beside it, not inside.
+  VerifyOptions slash = reported();
+  slash.report = (dir_ / "slash").string() + "/";
+  command_verify(catalogue_, slash, out, progress);
+  EXPECT_TRUE(fs::exists(dir_ / "slash.history.sqlite"));
+  EXPECT_FALSE(fs::exists(dir_ / "slash" / ".history.sqlite"));
   // --no-report without --history writes none.
   o.no_report = true;
   o.report.clear();
