@@ -926,9 +926,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
 
   // The history: this run appended, then the slow drifts over the last runs (each step
   // inside the tolerance, the whole window not) reported; they do not change the exit code.
+  // Parsed once, for the history and the report's diff, and only when one of them reads it.
+  const nlohmann::json results_doc =
+      history || previous ? nlohmann::json::parse(results_text) : nlohmann::json();
   std::vector<HistoryDrift> creeping;
   if (history) {
-    const long id = history->append(nlohmann::json::parse(results_text));
+    const long id = history->append(results_doc);
     creeping = history->drifts(id, kHistoryWindow,
                                manifest.drift_tolerance > 0 ? manifest.drift_tolerance : 0.05);
     out << fmt::format("history: run {} appended to {}{}\n", id, history->path().string(),
@@ -1009,7 +1012,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     std::string changes_md;
     if (previous) {
       try {
-        const RunDiff d = diff_runs(*previous, nlohmann::json::parse(results_text));
+        const RunDiff d = diff_runs(*previous, results_doc);
         summary_table.add_row(
             {"**changes** since the last run here",
              fmt::format("{} worse, {} better ([Changes](#changes-since-the-last-run))", d.worse(),

@@ -80,12 +80,13 @@ std::string label_of(const json& run) {
 
 std::string number_text(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : "–"; }
 
-/// Rank of a ledger verdict: lower is closer to the paper; "not run" and "not yet built" are
-/// not comparable (-1).
+/// Rank of a ledger verdict: lower is closer to the paper; "not yet built" (and a word the
+/// ledger does not know) is not comparable (-1). "not run" never gets here: diff_runs counts
+/// those rows apart.
 int ledger_rank(const std::string& v) {
   const auto& all = ledger_verdicts();
   const auto it = std::find(all.begin(), all.end(), v);
-  if (it == all.end() || v == kNotRun || v == kNotYetBuilt) return -1;
+  if (it == all.end() || v == kNotYetBuilt) return -1;
   return static_cast<int>(it - all.begin());
 }
 

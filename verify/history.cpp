@@ -202,40 +202,33 @@ long HistoryStore::append(const json& results) {
                 "RETURNING id",
                 path_);
     Statement v(db_, "INSERT INTO vals(run, quantity, value) VALUES(?,?,?)", path_);
-    for (const auto& [case_id, numbers] : rec.numbers)
-      for (const auto& [name, n] : numbers) {
-        q.bind(1, case_id).bind(2, name).bind(3, n.sense);
-        q.step();
-        const long qid = q.integer(0);
-        while (q.step()) {
-        }
-        q.reset();
-        v.bind(1, id).bind(2, qid).bind(3, n.value);
-        v.step();
-        v.reset();
-      }
-    for (const auto& [case_id, seconds] : rec.cpu_seconds) {
-      q.bind(1, case_id).bind(2, std::string(kCpuQuantity)).bind(3, 0);
+    // One value: its quantity's id (made on first sight), then the value under this run.
+    auto record = [&](const std::string& case_id, const std::string& name, int sense,
+                      double value) {
+      q.bind(1, case_id).bind(2, name).bind(3, sense);
       q.step();
       const long qid = q.integer(0);
       while (q.step()) {
       }
       q.reset();
-      v.bind(1, id).bind(2, qid).bind(3, seconds);
+      v.bind(1, id).bind(2, qid).bind(3, value);
       v.step();
       v.reset();
-    }
+    };
+    for (const auto& [case_id, numbers] : rec.numbers)
+      for (const auto& [name, n] : numbers) record(case_id, name, n.sense, n.value);
+    for (const auto& [case_id, seconds] : rec.cpu_seconds)
+      record(case_id, kCpuQuantity, 0, seconds);
     Statement w(db_, "INSERT INTO verdicts(run, kind, subject, verdict) VALUES(?,?,?,?)", path_);
-    for (const auto& [subject, verdict] : rec.case_verdicts) {
-      w.bind(1, id).bind(2, std::string("regression")).bind(3, subject).bind(4, verdict);
+    auto verdict_of = [&](const char* kind, const std::string& subject,
+                          const std::string& verdict) {
+      w.bind(1, id).bind(2, std::string(kind)).bind(3, subject).bind(4, verdict);
       w.step();
       w.reset();
-    }
-    for (const auto& [subject, verdict] : rec.ledger_verdicts) {
-      w.bind(1, id).bind(2, std::string("ledger")).bind(3, subject).bind(4, verdict);
-      w.step();
-      w.reset();
-    }
+    };
+    for (const auto& [subject, verdict] : rec.case_verdicts)
+      verdict_of("regression", subject, verdict);
+    for (const auto& [subject, verdict] : rec.ledger_verdicts) verdict_of("ledger", subject, verdict);
     exec(db_, "COMMIT", path_);
     return id;
   } catch (...) {
