@@ -107,6 +107,8 @@ struct TransientData : AnalysisResult {
   /// What errors.l2_rel measures, with its units, for axis labels ("relative L2 velocity
   /// error ‖v_h − v‖/‖v‖ at t = L/c (001 eq 75), dimensionless"); empty: no error measured.
   std::string main_error;
+  /// The problem's time unit and unit system (TransientDefinition), for the plots' axes.
+  std::string time_unit = "s", unit_system = "SI: m, s, kg, Pa";
   /// Time histories: columns "time", "kinetic", "internal work", "external work",
   /// "energy balance", then the problem's probes; one row per sample.
   std::vector<std::string> history_columns;

@@ -106,11 +106,8 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
       spec.style = fig.style;
       for (const auto& c : r.data<FigureData>().curves)
         if (c.figure == fig.id) spec.series.push_back(Series{c.label, c.x, c.y});
-      const std::string name = fmt::format("plots/{}-{}.svg", stem, fig.id);
-      if (const auto why = write_svg_plot(dir / name, spec))
-        page.plots += fmt::format("_{} plot not drawn: {}._\n\n", fig.id, *why);
-      else
-        page.plots += fmt::format("![{}]({}{})\n\n", fig.title, kPageUp, name);
+      page.plots += plot_image(dir, fmt::format("plots/{}-{}.svg", stem, fig.id), spec,
+                               fig.title, fig.id);
     }
   }
   return section_page(catalogue, *problem, section, title, std::move(page));

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -363,9 +364,25 @@ std::string page_lead(const Problem& problem) {
 std::string plot_image(const std::filesystem::path& dir, const std::string& name,
                        const PlotSpec& spec, const std::string& alt, const std::string& what) {
   std::filesystem::create_directories((dir / name).parent_path());
-  if (const auto why = write_svg_plot(dir / name, spec))
-    return fmt::format("_{} plot skipped: {}_\n\n", what, *why);
-  return fmt::format("![{}]({}{})\n\n", alt, kPageUp, name);
+  const std::vector<PlotSpec> parts = split_plot(spec);
+  std::string md;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    // One part keeps the name; several are "<stem>-part<k>.svg" beside it.
+    std::string file = name;
+    if (parts.size() > 1) {
+      const std::filesystem::path p(name);
+      file = (p.parent_path() / fmt::format("{}-part{}{}", p.stem().string(), k + 1,
+                                            p.extension().string()))
+                 .generic_string();
+    }
+    const std::string part_alt =
+        parts.size() > 1 ? fmt::format("{} (part {} of {})", alt, k + 1, parts.size()) : alt;
+    if (const auto why = write_svg_plot(dir / file, parts[k]))
+      md += fmt::format("_{} plot skipped: {}_\n\n", what, *why);
+    else
+      md += fmt::format("![{}]({}{})\n\n", part_alt, kPageUp, file);
+  }
+  return md;
 }
 
 /// The page of a 1D static problem: methods, findings, errors and CPU per resolution, rates
@@ -499,30 +516,60 @@ int finest_common_resolution(const std::vector<StudyResult>& studies) {
   return common.empty() ? 0 : *common.rbegin();
 }
 
+/// The resolution a ranking compares at: the finest that at least half of the studies (and
+/// at least two) reached, so that one study stopped at a coarse resolution does not pull
+/// every method's comparison down to it (issue 28: the cantilever was ranked at 9 particles
+/// across the depth, where an erratic variant came first). Falls back to the finest common
+/// resolution; 0 when there is none.
+int ranking_resolution(const std::vector<StudyResult>& studies) {
+  std::map<int, std::size_t> reached;
+  std::size_t n = 0;
+  for (const auto& s : studies) {
+    if (s.cases.empty()) continue;
+    ++n;
+    std::set<int> mine;
+    for (const auto& c : s.cases) mine.insert(c.spec.nodes);
+    for (int r : mine) ++reached[r];
+  }
+  const std::size_t needed = std::max<std::size_t>(2, (n + 1) / 2);
+  for (auto it = reached.rbegin(); it != reached.rend(); ++it)
+    if (it->second >= needed) return it->first;
+  return finest_common_resolution(studies);
+}
+
 }  // namespace
 
 /// The method ranking of a section with errors: relative L2 error (the problem's main field)
-/// at the finest common resolution, the finest error where a study goes further, the fitted
+/// at the ranking resolution (ranking_resolution), the finest error where a study goes
+/// further or stopped short (unranked, last), the fitted
 /// rate with its trend, CPU seconds and correct digits per CPU second; best first.
 std::string ranking_block(const std::vector<StudyResult>& studies, const std::string& resolution,
                           const std::string& error_name) {
-  const int common = finest_common_resolution(studies);
+  const int common = ranking_resolution(studies);
   struct Row {
     std::string label;
-    const CaseResult* at = nullptr;  // the case at the common resolution (or the finest)
+    const CaseResult* at = nullptr;  // the case at the ranking resolution (or the finest)
     const CaseResult* finest = nullptr;
     ConvergenceJudgement trend;
+    bool ranked = true;  // reached the ranking resolution
   };
   std::vector<Row> rows;
   bool further = false;
+  std::size_t unranked = 0;
   for (const auto& s : studies) {
     if (s.cases.empty()) continue;
     Row r{s.label, &s.cases.back(), &s.cases.back(),
           judge_study(s, [](const CaseResult& c) { return c.errors.l2_rel; })};
-    if (common > 0)
+    if (common > 0) {
+      r.ranked = false;
       for (const auto& c : s.cases)
-        if (c.spec.nodes == common) r.at = &c;
-    further = further || r.at != r.finest;
+        if (c.spec.nodes == common) {
+          r.at = &c;
+          r.ranked = true;
+        }
+    }
+    if (!r.ranked) ++unranked;
+    further = further || r.at != r.finest || !r.ranked;
     rows.push_back(std::move(r));
   }
   if (rows.empty()) return "";
@@ -541,9 +588,10 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
   }
   // Best first; an error that is missing, not finite or exactly 0 (nothing measured: no
   // floating-point solution is exact) goes last.
+  // Studies that stopped short of the ranking resolution come last, unranked.
   const auto measured = [](const Row& r) {
     const double e = r.at->errors.l2_rel;
-    return std::isfinite(e) && e > 0;
+    return r.ranked && std::isfinite(e) && e > 0;
   };
   std::stable_sort(rows.begin(), rows.end(), [&](const Row& a, const Row& b) {
     if (measured(a) != measured(b)) return measured(a);
@@ -556,7 +604,14 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
       "pairwise rates and the finest error; CPU s of that case; digits/s: −log₁₀(error) per "
       "CPU second (higher is better).\n\n",
       error_name, at,
-      common > 0 ? ", the finest resolution all studies share" : " (they share no resolution)");
+      common == 0 ? " (they share no resolution)"
+      : unranked > 0
+          ? fmt::format(", the finest resolution at least half the studies reached ({} of {}); "
+                        "the {} that stopped coarser {} listed last, unranked, with their finest "
+                        "error",
+                        rows.size() - unranked, rows.size(), unranked,
+                        unranked == 1 ? "is" : "are")
+          : std::string(", the finest resolution all studies share"));
   std::vector<std::string> head{"method", fmt::format("error at {}", common > 0 ? std::to_string(common) : "finest")};
   if (further) head.push_back("finest error (n)");
   for (const char* c : {"rate (trend)", "CPU s", "digits/s"}) head.push_back(c);
@@ -566,9 +621,11 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
   MarkdownTable t(head, align);
   for (const auto& r : rows) {
     const double e = r.at->errors.l2_rel, cpu = r.at->cpu.total();
-    std::vector<std::string> row{r.label, e == 0 ? "0 (not measured?)" : fmt_sci(e, 2)};
+    std::vector<std::string> row{r.label, !r.ranked       ? std::string("not reached (unranked)")
+                                          : e == 0        ? std::string("0 (not measured?)")
+                                                          : fmt_sci(e, 2)};
     if (further)
-      row.push_back(r.finest == r.at ? "–"
+      row.push_back(r.finest == r.at && r.ranked ? "–"
                                      : fmt::format("{} ({})", fmt_sci(r.finest->errors.l2_rel, 2),
                                                    r.finest->spec.nodes));
     row.push_back(r.trend.trend == Trend::undetermined
@@ -576,7 +633,7 @@ std::string ranking_block(const std::vector<StudyResult>& studies, const std::st
                       : fmt::format("{} ({})", fmt_rate(r.trend.fitted_rate),
                                     trend_name(r.trend.trend)));
     row.push_back(fmt::format("{:.3f}", cpu));
-    row.push_back(std::isfinite(e) && e > 0 && cpu > 0
+    row.push_back(r.ranked && std::isfinite(e) && e > 0 && cpu > 0
                       ? fmt::format("{:.3g}", std::max(0.0, -std::log10(e)) / cpu)
                       : "–");
     t.add_row(row);

@@ -136,7 +136,9 @@ std::string methods_list(const ReportSection& section,
 /// a resolution counts ("Exact: tip deflection = 0.00889. Resolutions count nodes.").
 std::string page_lead(const Problem& problem);
 /// Writes `spec` as the SVG `name` (under `dir`, "plots/…") and returns its Markdown image
-/// "![alt](../plots/…)", or "_<what> plot skipped: <why>_" when it could not be drawn.
+/// "![alt](../plots/…)", or "_<what> plot skipped: <why>_" when it could not be drawn. A
+/// plot of more than kMaxCurves computed curves is split (split_plot) into
+/// "<stem>-part1.svg", "<stem>-part2.svg", …, one image each.
 std::string plot_image(const std::filesystem::path& dir, const std::string& name,
                        const PlotSpec& spec, const std::string& alt, const std::string& what);
 
@@ -173,8 +175,10 @@ std::vector<StudySummary> summarize(const Registries& plugins,
                                     const std::vector<StudyResult>& studies);
 
 /// The method ranking of a section with errors: relative L2 error (the problem's main field)
-/// at the finest common resolution, the finest error where a study goes further, the fitted
-/// rate with its trend, CPU seconds and correct digits per CPU second; best first.
+/// at the finest resolution at least half the studies (and two) reached, else the finest
+/// common one; the finest error where a study goes further; studies that stopped short
+/// last, unranked, with their finest error; the fitted rate with its trend, CPU seconds and
+/// correct digits per CPU second; best first.
 std::string ranking_block(const std::vector<StudyResult>& studies, const std::string& resolution,
                           const std::string& error_name);
 
@@ -194,7 +198,8 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
 /// Writes the section's page `dir`/problems/<slug>.md (a new slug if a page of that name
 /// exists already), plots under `dir`/plots and VTK files under `dir`/vtk (when `vtk`), and
 /// returns the one-screen summary for index.md: heading, what the problem is, the method
-/// ranking at the finest resolution the studies share (analyses: each case's verdict), the
+/// ranking at the finest resolution at least half the studies reached, the others listed
+/// unranked (analyses: each case's verdict), the
 /// findings' and published values' verdict counts, and the link to the page.
 std::string write_problem_section(const Registries& catalogue, const ReportSection& section,
                                   const std::filesystem::path& dir, bool vtk);

@@ -335,6 +335,8 @@ class TransientAnalysis final : public Analysis {
                                    *std::min_element(checkpoints.begin(), checkpoints.end())));
     r.cpu.assembly = cpu_seconds() - t0;
     td.main_error = def.main_error;
+    td.time_unit = def.time_unit;
+    td.unit_system = def.unit_system;
     TransientMeasures m;
     try {
       run_transient(sim, step.target, step.critical, def, checkpoints, p_, m, r);

@@ -137,20 +137,44 @@ std::string profile_plots(const std::vector<StudyResult>& studies, const fs::pat
         it->second.style = "lines";
         it->second.auto_logy = false;
       }
-      for (std::size_t c = 0; c < p.labels.size() && c < p.x.size() && c < p.y.size(); ++c)
-        it->second.series.push_back({s.label + ": " + p.labels[c], p.x[c], p.y[c]});
+      PlotSpec& spec = it->second;
+      for (std::size_t c = 0; c < p.labels.size() && c < p.x.size() && c < p.y.size(); ++c) {
+        const SeriesRole role = p.role(c);
+        if (role == SeriesRole::computed) {
+          spec.series.push_back({s.label + ": " + p.labels[c], p.x[c], p.y[c]});
+          continue;
+        }
+        // The problem's own curves (a closed form, a paper's data, a band) are the same for
+        // every study: drawn once, under their own name.
+        const bool seen = std::any_of(spec.series.begin(), spec.series.end(),
+                                      [&](const Series& d) { return d.label == p.labels[c]; });
+        if (role == SeriesRole::band) {
+          // Two consecutive band curves on the same x: the lower and upper edge.
+          const bool pair = c + 1 < p.labels.size() && c + 1 < p.x.size() &&
+                            c + 1 < p.y.size() && p.role(c + 1) == SeriesRole::band &&
+                            p.x[c + 1] == p.x[c] && p.y[c + 1].size() == p.y[c].size();
+          if (!seen) {
+            Series band{p.labels[c], p.x[c], p.y[c], SeriesRole::band, p.y[c]};
+            if (pair)
+              for (std::size_t i = 0; i < p.y[c].size(); ++i) {
+                band.y[i] = std::min(p.y[c][i], p.y[c + 1][i]);
+                band.y_hi[i] = std::max(p.y[c][i], p.y[c + 1][i]);
+              }
+            spec.series.push_back(std::move(band));
+          }
+          if (pair) ++c;
+          continue;
+        }
+        if (!seen) spec.series.push_back({p.labels[c], p.x[c], p.y[c], role});
+      }
     }
   }
   if (titles.empty()) return "";
   std::string md = "### Profiles\n\nCurves over space at the end of the finest case of each "
                    "study, overlaid across studies.\n\n";
-  for (std::size_t i = 0; i < titles.size(); ++i) {
-    const std::string file = fmt::format("plots/{}-profile{}.svg", base, i + 1);
-    if (const auto why = write_svg_plot(dir / file, specs[titles[i]]))
-      md += fmt::format("- {}: no plot ({})\n", titles[i], *why);
-    else
-      md += fmt::format("![{}]({}{})\n\n", titles[i], kPageUp, file);
-  }
+  for (std::size_t i = 0; i < titles.size(); ++i)
+    md += plot_image(dir, fmt::format("plots/{}-profile{}.svg", base, i + 1), specs[titles[i]],
+                     titles[i], titles[i]);
   return md + "\n";
 }
 
@@ -314,13 +338,22 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                                              "energy balance"};
     std::vector<std::string> probes;
     for (std::size_t c = 5; c < h.columns.size(); ++c) probes.push_back(h.columns[c]);
+    // Axes in the problem's own units (rod-pulse: ms and mm-kg-ms energies).
+    const TransientData& d = r.data<TransientData>();
+    const std::string time_axis = fmt::format("time t ({})", d.time_unit);
     const std::string en = fmt::format("plots/{}-energy.svg", stem);
-    if (!write_svg_plot(dir / en, history_plot(h, energy, s.label + ": energy", "energy")))
+    if (!write_svg_plot(dir / en, history_plot(h, energy, s.label + ": energy",
+                                               fmt::format("energy ({})", d.unit_system),
+                                               time_axis)))
       page.plots += fmt::format(" · [energy plot]({}{})", kPageUp, en);
     if (!probes.empty()) {
       const std::string pr = fmt::format("plots/{}-probes.svg", stem);
-      if (!write_svg_plot(dir / pr, history_plot(h, probes, s.label + ": probes", "value")))
-        page.plots += fmt::format("\n\n  ![probes of {}]({}{})", s.label, kPageUp, pr);
+      const std::string img = plot_image(
+          dir, pr,
+          history_plot(h, probes, s.label + ": probes",
+                       fmt::format("probe value ({}; as named)", d.unit_system), time_axis),
+          fmt::format("probes of {}", s.label), "probes");
+      page.plots += "\n\n  " + img.substr(0, img.find_last_not_of('\n') + 1);
     }
     page.plots += "\n";
   }

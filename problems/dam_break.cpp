@@ -310,10 +310,12 @@ TransientDefinition DamBreak::define(const Discretization& d, const TransientInp
     const std::string who = frame + " kernel";
     m.profiles.push_back({"surge front against Martin & Moyce (1952), n² = 2",
                           "T = t √(2g/a)", "Z / a", {who, "Martin & Moyce 1952, Table 2"},
-                          {track->T, front.T}, {track->Z, front.value}});
+                          {track->T, front.T}, {track->Z, front.value},
+                          {SeriesRole::computed, SeriesRole::data}});
     m.profiles.push_back({"column height at the left wall against Martin & Moyce (1952)",
                           "T = t √(2g/a)", "H / a", {who, "Martin & Moyce 1952, Table 6"},
-                          {track->T, height.T}, {track->H, height.value}});
+                          {track->T, height.T}, {track->H, height.value},
+                          {SeriesRole::computed, SeriesRole::data}});
     std::vector<double> t, k, bal;
     const double released = std::max(track->watch->released_energy(), 1e-300);
     for (const auto& s : track->watch->samples()) {

@@ -395,16 +395,20 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
     for (double f : track->drained) level.push_back(funnel::level_from_drained(geometry, H0, f));
     m.profiles.push_back({"funnel: level against time, Torricelli band", "time (s)",
                           "level h (m, from the volume above the outlet)",
-                          {who, fmt::format("Torricelli C_c = {:.3f} (45°), quasi-steady", cc_fast),
-                           fmt::format("Torricelli C_c = {:.3f} (flat), start-up from rest",
-                                       cc_slow)},
+                          {who,
+                           fmt::format("Torricelli band: C_c = {:.3f} (45°, quasi-steady) to "
+                                       "{:.3f} (flat, start-up from rest)",
+                                       cc_fast, cc_slow),
+                           "Torricelli slow edge"},
                           {track->t, band_t, band_t},
-                          {level, fast_h, slow_h}});
+                          {level, fast_h, slow_h},
+                          {SeriesRole::computed, SeriesRole::band, SeriesRole::band}});
     m.profiles.push_back({"funnel: drained fraction against time, Torricelli band", "time (s)",
                           "mass below y = 0 / total",
-                          {who, "Torricelli fast edge", "Torricelli slow edge"},
+                          {who, "Torricelli band (fast to slow edge)", "Torricelli slow edge"},
                           {track->t, band_t, band_t},
-                          {track->drained, fast_f, slow_f}});
+                          {track->drained, fast_f, slow_f},
+                          {SeriesRole::computed, SeriesRole::band, SeriesRole::band}});
     std::vector<double> kinetic, potential, internal, balance;
     std::vector<double> st;
     for (const auto& s : watch.samples()) {

@@ -309,7 +309,8 @@ TransientDefinition HydrostaticColumn::define(const Discretization& d,
         ex[r] = water.rho0 * water.g * (H - y[r]);
       }
       m.profiles.push_back({"pressure against height (band means, time-averaged)", "y (m)",
-                            "p (Pa)", {frame + " kernel", "ρ0 g (H − y)"}, {y, y}, {pr, ex}});
+                            "p (Pa)", {frame + " kernel", "ρ0 g (H − y)"}, {y, y}, {pr, ex},
+                            {SeriesRole::computed, SeriesRole::reference}});
     }
     std::vector<double> t, k;
     for (const auto& s : track->watch->samples()) {

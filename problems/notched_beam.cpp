@@ -349,6 +349,8 @@ TransientDefinition NotchedBeam::define(const Discretization& d, const Transient
   def.steps = steps;
   def.label = fmt::format("notched-beam {} {}", in.method, in.dynamics.text("frame"));
   def.notes = fmt::format("{} steps, scale {}, {} layout", steps, s, layout_);
+  def.time_unit = "ms";
+  def.unit_system = "mm, ms, kg, GPa; velocities m/s, energies J";
   if (inelastic) def.notes += ", j2-viscoplastic";
   def.probe_names = {"v_y load point", "u_y load point"};
   def.probes = [load_point](const ExplicitDynamics& sim) {

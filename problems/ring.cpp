@@ -613,6 +613,7 @@ TransientDefinition Ring::define(const Discretization& d, const TransientInputs&
       const Eigen::VectorXd& rr = ref->radii[k];
       const Eigen::VectorXd& st = ref->stt[k];
       wall.labels.push_back("1D reference");
+      wall.roles = {SeriesRole::computed, SeriesRole::reference};
       wall.x.emplace_back(rr.data(), rr.data() + rr.size());
       wall.y.emplace_back(st.data(), st.data() + st.size());
       double worst = 0;

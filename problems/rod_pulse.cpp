@@ -192,6 +192,8 @@ class RodPulse final : public TransientProblem {
     def.main_error = "relative L2 velocity error ||v_h - v|| / ||v|| at t = L/c "
                      "(001 eq 75, dimensionless)";
     def.notes = fmt::format("{} loading, {} masses", p_.text("loading"), p_.text("mass"));
+    def.time_unit = "ms";
+    def.unit_system = "mm, ms, kg, GPa; velocities m/s, energies J";
     auto checkpoint_name = [](int k) {
       return k == 0   ? std::string("velocity error at L/c")
              : k == 1 ? std::string("velocity error at 2L/c")

@@ -68,6 +68,11 @@ struct TransientDefinition {
   std::string label;       ///< what the progress bar shows
   std::string main_error;  ///< what errors.l2_rel measures, with units ("" : none)
   std::string notes;       ///< appended to the engine's description ("gaussian loading")
+  /// The units the problem is stated in, for the report's axes: its time unit and the
+  /// system every probe, energy and field is in (rod-pulse and notched-beam use mm, ms, kg,
+  /// GPa; 2D energies are per unit depth, 1D ones per unit cross-section).
+  std::string time_unit = "s";
+  std::string unit_system = "SI: m, s, kg, Pa";
   std::function<void(const ExplicitDynamics&, int checkpoint, TransientMeasures&)> at_checkpoint;
   std::vector<std::string> probe_names;
   std::function<std::vector<double>(const ExplicitDynamics&)> probes;

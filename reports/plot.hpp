@@ -17,10 +17,30 @@ bool gnuplot_available();
 /// Distinct colours before the line styles repeat with dashes.
 inline constexpr int kPaletteSize = 20;
 
+/// What a curve is, which decides how it is drawn, so exact and computed never look alike:
+/// - computed: a colour of the palette, with markers (on dense curves every few points);
+/// - reference: a closed form or exact solution, a black line without markers;
+/// - data: published or measured points (a paper's table), black open circles;
+/// - band: a reference that is a range, a grey shaded area between y and y_hi.
+/// A reference, data or band series is drawn once and in every part of a split plot.
+enum class SeriesRole { computed, reference, data, band };
+
 struct Series {
   std::string label;
   std::vector<double> x, y;  ///< same length
+  SeriesRole role = SeriesRole::computed;
+  std::vector<double> y_hi = {};  ///< band only: the upper edge (y is the lower), same length as x
 };
+
+/// The most computed curves one plot shows: split_plot puts the rest in further parts.
+inline constexpr std::size_t kMaxCurves = 8;
+
+/// Off-scale curves: sorted by their largest |y|, the curves above the first gap of more than
+/// kOffScaleFactor (from the curve below, and from every reference) are off scale, if they
+/// are fewer than half (any number when a reference sets the scale). The axis is fitted to
+/// the others, the curve is clipped at its edge and its legend entry says "off scale" with
+/// its peak, so one blown-up run does not squeeze the rest into a strip.
+inline constexpr double kOffScaleFactor = 20;
 
 struct PlotSpec {
   std::string title, xlabel, ylabel;  ///< axis labels carry their units: "dt (s)"
@@ -41,6 +61,11 @@ struct PlotSpec {
 
 /// The y-range ratio from which auto_logy switches to a log axis.
 inline constexpr double kAutoLogSpan = 1e3;
+
+/// `spec` as plots of at most `max_curves` computed curves each, in order and of nearly equal
+/// size, each with every reference, data and band series and a title ending "(part k of n)";
+/// `spec` itself when it has at most `max_curves`. Throws std::invalid_argument for 0.
+std::vector<PlotSpec> split_plot(const PlotSpec& spec, std::size_t max_curves = kMaxCurves);
 
 /// Draws `spec` into `svg_path` with gnuplot (720×480, sans 11, wider and taller when the
 /// legend, outside the plot area on the right, has many or long entries; a fixed palette of

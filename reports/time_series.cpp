@@ -233,10 +233,11 @@ void write_history_csv(const fs::path& path, const TimeHistory& h) {
 }
 
 PlotSpec history_plot(const TimeHistory& h, const std::vector<std::string>& columns,
-                      const std::string& title, const std::string& ylabel) {
+                      const std::string& title, const std::string& ylabel,
+                      const std::string& xlabel) {
   PlotSpec spec;
   spec.title = title;
-  spec.xlabel = "time";
+  spec.xlabel = xlabel;
   spec.ylabel = ylabel;
   spec.style = "lines";  // histories have thousands of samples: markers would hide the curve
   const std::vector<double> t = h.column("time");
@@ -244,7 +245,12 @@ PlotSpec history_plot(const TimeHistory& h, const std::vector<std::string>& colu
   if (names.empty())
     for (const auto& c : h.columns)
       if (c != "time") names.push_back(c);
-  for (const auto& name : names) spec.series.push_back({name, t, h.column(name)});
+  for (const auto& name : names) {
+    Series s{name, t, h.column(name)};
+    if (name.starts_with("exact ") || name.ends_with(" exact") || name.starts_with("1D "))
+      s.role = SeriesRole::reference;
+    spec.series.push_back(std::move(s));
+  }
   return spec;
 }
 

@@ -89,10 +89,13 @@ struct TimeHistory {
 void write_history_csv(const std::filesystem::path& path, const TimeHistory& h);
 
 /// A line plot of `columns` against the "time" column (every other column if `columns` is
-/// empty), one series per column labelled by its name; x label "time". Throws
-/// std::invalid_argument (from TimeHistory::column) for an unknown name. Draw it with
+/// empty), one series per column labelled by its name; x label `xlabel` (give its unit).
+/// A column named as a reference ("exact …", "… exact", "1D …": a closed form or a 1D
+/// reference solution) is drawn as one (SeriesRole::reference).
+/// Throws std::invalid_argument (from TimeHistory::column) for an unknown name. Draw it with
 /// write_svg_plot.
 PlotSpec history_plot(const TimeHistory& h, const std::vector<std::string>& columns,
-                      const std::string& title, const std::string& ylabel);
+                      const std::string& title, const std::string& ylabel,
+                      const std::string& xlabel = "time t (s)");
 
 }  // namespace mfv

@@ -2,6 +2,7 @@
 /// cantilever findings that use it, and the problem pages with their one-screen summaries.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -286,6 +287,25 @@ TEST(ProblemPage, RankingIsAtTheFinestCommonResolutionBestFirst) {
   EXPECT_NE(summary.find("Published values (5 compared)"), std::string::npos) << summary;
 }
 
+TEST(ProblemPage, AStudyStoppedCoarseIsListedUnrankedNotTheRankingsResolution) {
+  TempDir dir("mfv-pages");
+  ReportSection section = laplace_section();
+  // Errors 100× smaller, but only at 21 nodes: it would rank first at 21 if it set the
+  // resolution for everyone.
+  section.studies.push_back(laplace_study("coarse-only", "fem", {21}, 0.01));
+  const std::string summary = write_problem_section(catalogue(), section, dir.path(), false);
+  EXPECT_NE(summary.find("at 161 nodes, the finest resolution at least half the studies reached "
+                         "(2 of 3); the 1 that stopped coarser is listed last, unranked"),
+            std::string::npos)
+      << summary;
+  const auto rows = table_after(summary, "Ranked by");
+  ASSERT_EQ(rows.size(), 3u) << summary;
+  EXPECT_EQ(rows[0].find("| fem-a "), 0u) << rows[0];
+  EXPECT_EQ(rows[2].find("| coarse-only "), 0u) << rows[2];
+  EXPECT_NE(rows[2].find("not reached (unranked)"), std::string::npos) << rows[2];
+  EXPECT_NE(rows[2].find("(21)"), std::string::npos) << "its finest error shown: " << rows[2];
+}
+
 TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
   TempDir dir("mfv-pages");
   ReportSection section = laplace_section();
@@ -537,6 +557,110 @@ TEST(PlotScript, LinearAxisTurnsLogarithmicWhenValuesSpanDecades) {
   EXPECT_EQ(gnuplot_script(spec).find("set logscale y"), std::string::npos);
   spec.series[0].y = {NAN, NAN, NAN};
   EXPECT_EQ(gnuplot_script(spec), "") << "nothing left to plot";
+}
+
+TEST(PlotSplit, AtMostEightComputedCurvesPerPartEachWithTheReferences) {
+  PlotSpec spec;
+  spec.title = "levels";
+  spec.series.push_back({"Torricelli", {0, 1}, {0, 1}, SeriesRole::band, {1, 2}});
+  for (int k = 0; k < 20; ++k)
+    spec.series.push_back({fmt::format("method {}", k), {0, 1}, {1.0 * k, 2.0 * k}});
+  spec.series.push_back({"exact", {0, 1}, {0, 1}, SeriesRole::reference});
+  const std::vector<PlotSpec> parts = split_plot(spec);
+  ASSERT_EQ(parts.size(), 3u);
+  std::size_t total = 0;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    std::size_t computed = 0, references = 0;
+    for (const auto& s : parts[p].series)
+      (s.role == SeriesRole::computed ? computed : references) += 1;
+    EXPECT_LE(computed, kMaxCurves);
+    EXPECT_GE(computed, 6u) << "parts of nearly equal size";
+    EXPECT_EQ(references, 2u) << "the band and the exact curve are in every part";
+    EXPECT_EQ(parts[p].title, fmt::format("levels (part {} of 3)", p + 1));
+    total += computed;
+  }
+  EXPECT_EQ(total, 20u) << "no curve lost or repeated";
+  EXPECT_EQ(parts[0].series[2].label, "method 0") << "order kept";
+  spec.series.resize(9);  // the band and 8 computed curves: one plot
+  EXPECT_EQ(split_plot(spec).size(), 1u);
+  EXPECT_THROW(split_plot(spec, 0), std::invalid_argument);
+}
+
+TEST(PlotScript, ReferencesAreBlackLinesDataOpenCirclesBandsShadedAndDrawnFirst) {
+  PlotSpec spec;
+  spec.xlabel = "t (s)";
+  spec.ylabel = "h (m)";
+  spec.style = "lines";
+  std::vector<double> t(100), y(100);
+  for (int i = 0; i < 100; ++i) t[i] = y[i] = i;
+  spec.series.push_back({"ours", t, y});
+  spec.series.push_back({"closed form", t, y, SeriesRole::reference});
+  spec.series.push_back({"experiment", {1, 2}, {1, 2}, SeriesRole::data});
+  spec.series.push_back({"band", {0, 99}, {0, 90}, SeriesRole::band, {10, 99}});
+  const std::string gp = gnuplot_script(spec);
+  EXPECT_NE(gp.find("with linespoints ls 1 pi 10 title 'ours'"), std::string::npos)
+      << "a dense computed curve carries a marker every tenth point\n" << gp;
+  EXPECT_NE(gp.find("with lines lc rgb '#000000' lw 2 dt 1 title 'closed form'"),
+            std::string::npos) << gp;
+  EXPECT_NE(gp.find("with points lc rgb '#000000' pt 6"), std::string::npos) << gp;
+  const auto band = gp.find("using 1:2:3 with filledcurves");
+  ASSERT_NE(band, std::string::npos) << gp;
+  EXPECT_LT(band, gp.find("title 'ours'")) << "the band is drawn underneath";
+  EXPECT_NE(gp.find("0 0 10\n"), std::string::npos) << "x, lower and upper edge";
+  // A band needs its upper edge at every x.
+  spec.series.back().y_hi = {1};
+  const auto failure = write_svg_plot("/nonexistent/x.svg", spec);
+  ASSERT_TRUE(failure.has_value());
+  EXPECT_NE(failure->find("band 'band' has 2 x and 1 upper values"), std::string::npos)
+      << *failure;
+}
+
+TEST(PlotScript, ABlownUpCurveIsMarkedOffScaleAndTheAxisFitsTheRest) {
+  PlotSpec spec;
+  spec.xlabel = "θ (deg)";
+  spec.ylabel = "σθθ (Pa)";
+  for (int k = 0; k < 4; ++k)
+    spec.series.push_back({fmt::format("m{}", k), {0, 1, 2}, {-1.0 - k, 0.5, 1.0 + k}});
+  spec.series.push_back({"blown", {0, 1, 2}, {0, 3e9, -1e9}});
+  const std::string gp = gnuplot_script(spec);
+  EXPECT_NE(gp.find("'blown (off scale: peak |y| 3e+09)'"), std::string::npos) << gp;
+  EXPECT_NE(gp.find("set clip two"), std::string::npos);
+  const auto range = gp.find("set yrange [");
+  ASSERT_NE(range, std::string::npos) << gp;
+  double lo = 0, hi = 0;
+  ASSERT_EQ(std::sscanf(gp.c_str() + range, "set yrange [%lf:%lf]", &lo, &hi), 2);
+  EXPECT_NEAR(lo, -4.4, 1e-9) << "the other curves' range, padded 5 %";
+  EXPECT_NEAR(hi, 4.4, 1e-9);
+  EXPECT_EQ(gp.find("set logscale y"), std::string::npos);
+  // Nothing is off scale when the curves are alike, when the large ones are half of them
+  // (kinetic energy and its small balance), or with one curve and no reference.
+  spec.series.back().y = {0, 3, -1};
+  EXPECT_EQ(gnuplot_script(spec).find("off scale"), std::string::npos);
+  PlotSpec two;
+  two.series.push_back({"kinetic", {0, 1}, {0, 0.5}});
+  two.series.push_back({"balance", {0, 1}, {0, 1e-4}});
+  EXPECT_EQ(gnuplot_script(two).find("off scale"), std::string::npos);
+  PlotSpec one;
+  one.series.push_back({"alone", {0, 1}, {0, 1e9}});
+  EXPECT_EQ(gnuplot_script(one).find("off scale"), std::string::npos);
+  // A reference sets the scale too: one computed curve far above it is off scale.
+  one.series.push_back({"exact", {0, 1}, {0, 1}, SeriesRole::reference});
+  EXPECT_NE(gnuplot_script(one).find("off scale"), std::string::npos);
+}
+
+TEST(PlotScript, ALogAxisWithinADecadeGetsLabelledTics) {
+  PlotSpec spec;
+  spec.logx = spec.logy = true;
+  spec.series.push_back({"sph", {0.01, 0.02, 0.04}, {1e-2, 3e-3, 8e-4}});
+  std::string gp = gnuplot_script(spec);
+  const auto tics = gp.find("set xtics (");
+  ASSERT_NE(tics, std::string::npos) << "no power of ten inside [0.0083, 0.048]\n" << gp;
+  const std::string line = gp.substr(tics, gp.find('\n', tics) - tics);
+  for (const char* label : {"'0.01'", "'0.02'"})
+    EXPECT_NE(line.find(label), std::string::npos) << line;
+  spec.series[0].x = {1e-3, 1e-2, 1e-1};  // decades inside: gnuplot's own tics
+  gp = gnuplot_script(spec);
+  EXPECT_EQ(gp.find("set xtics ("), std::string::npos) << gp;
 }
 
 }  // namespace

@@ -370,7 +370,7 @@ TEST(TimeHistory, PlotHasOneSeriesPerColumnAgainstTime) {
   const PlotSpec p = history_plot(h, {"kinetic", "total"}, "Energy", "J");
   EXPECT_EQ(p.title, "Energy");
   EXPECT_EQ(p.ylabel, "J");
-  EXPECT_EQ(p.xlabel, "time");
+  EXPECT_EQ(p.xlabel, "time t (s)") << "the default axis names its unit";
   ASSERT_EQ(p.series.size(), 2u);
   EXPECT_EQ(p.series[0].label, "kinetic");
   EXPECT_EQ(p.series[1].label, "total");
@@ -378,6 +378,17 @@ TEST(TimeHistory, PlotHasOneSeriesPerColumnAgainstTime) {
   EXPECT_EQ(p.series[0].y, h.column("kinetic"));
   EXPECT_EQ(history_plot(h, {}, "all", "J").series.size(), 3u);  // every non-time column
   EXPECT_THROW(history_plot(h, {"potential"}, "Energy", "J"), std::invalid_argument);
+  EXPECT_EQ(history_plot(h, {}, "all", "J", "time t (ms)").xlabel, "time t (ms)");
+  // A closed-form column is drawn as a reference, not as one more computed curve.
+  TimeHistory probes{{"time", "v left end", "exact v left end", "u mid exact", "1D inner radius"},
+                     {}};
+  probes.add({0, 1, 1, 0, 2});
+  const PlotSpec q = history_plot(probes, {}, "probes", "m/s");
+  ASSERT_EQ(q.series.size(), 4u);
+  EXPECT_EQ(q.series[0].role, SeriesRole::computed);
+  EXPECT_EQ(q.series[1].role, SeriesRole::reference);
+  EXPECT_EQ(q.series[2].role, SeriesRole::reference);
+  EXPECT_EQ(q.series[3].role, SeriesRole::reference);
   if (gnuplot_available()) {
     TempDir dir;
     const auto svg = dir.path() / "energy.svg";
