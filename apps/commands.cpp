@@ -668,7 +668,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   if (o.update_baseline && !manifest.baseline.empty())
     check_output_file(manifest.baseline, "baseline", written_by_mfv_verify);
   const std::filesystem::path report_dir =
-      o.report.empty() ? std::filesystem::path("reports") / manifest.name
+      o.report.empty() ? std::filesystem::path("runs") / manifest.name
                        : std::filesystem::path(o.report);
   std::unique_ptr<StagedDirectory> staged;
   if (!o.no_report) staged = stage_report(report_dir, o.force, manifest.name);
@@ -677,7 +677,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   if (!o.no_history) {
     std::filesystem::path file = o.history;
     if (file.empty() && staged) {
-      // Beside the report, never inside it: "-r reports/x/" names the directory x too.
+      // Beside the report, never inside it: "-r runs/x/" names the directory x too.
       const std::filesystem::path target =
           report_dir.has_filename() ? report_dir : report_dir.parent_path();
       file = target.parent_path() / (target.filename().string() + ".history.sqlite");
@@ -713,6 +713,12 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   std::vector<ReportSection> sections;
   Baseline updated = baseline;
   updated.suite = manifest.name;
+  // CPU seconds compare only on the machine (CPU model, hardware and OpenMP threads) that
+  // recorded them; an update records this one.
+  const Provenance here = provenance();
+  const std::string machine = machine_note(here.cpu, here.cores, here.threads);
+  const bool cpu_comparable = same_machine(baseline.machine, machine);
+  if (o.update_baseline && !o.full) updated.machine = machine;
   const std::string manifest_file = manifest.path.filename().string();
 
   for (std::size_t k = 0; k < selected.size(); ++k) {
@@ -776,9 +782,10 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
             });
             base.l2_rate = base.h1_rate = current.l2_rate = current.h1_rate = std::nan("");
           }
+          if (o.full) base.cpu_seconds = current.cpu_seconds = std::nan("");
           oc.drifts = check_drift(mc.id, base, current,
                                   mc.drift_tolerance.value_or(manifest.drift_tolerance),
-                                  manifest.drift_floor);
+                                  manifest.drift_floor, cpu_comparable);
         }
       }
       oc.study = s;
@@ -1105,6 +1112,19 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     head += fmt::format("## Regression\n\n**{}** Every case with its rates, bands and baseline: "
                         "[regression.md](regression.md).\n\n",
                         summary);
+    // What the baseline watches, and whether this run's CPU could be judged against it.
+    if (!manifest.baseline.empty() && !o.update_baseline)
+      head += fmt::format(
+          "The baseline holds every case's errors, rates and headline values (relative drift "
+          "tolerance {:g}, a headline move fails until the baseline is updated) and its CPU "
+          "seconds, judged by a ratio: more than {:g}× (and {:g} s) slower fails. CPU {}.\n\n",
+          manifest.drift_tolerance, kCpuRatio, kCpuFloorSeconds,
+          cpu_comparable
+              ? "compared: the baseline was recorded on this machine (" + machine + ")"
+              : fmt::format("not compared: the baseline was recorded on {}, this run on {}",
+                            baseline.machine.empty() ? std::string("an unnamed machine")
+                                                     : baseline.machine,
+                            machine));
     std::string messages_md;
     if (!messages.empty()) {
       messages_md += "Messages:\n\n";
@@ -1242,7 +1262,10 @@ void command_manifest_ctest(const std::string& manifest_path, const std::string&
     for (const auto& l : c.labels) labels.push_back(l);
     text += fmt::format("add_test({} {} verify {} --case {} --no-report)\n", bracket(c.id),
                         bracket(mfv_executable), bracket(manifest_abs), bracket(c.id));
-    text += fmt::format("set_tests_properties({} PROPERTIES LABELS {} TIMEOUT 900)\n",
+    // Idle OpenMP threads sleep: two tests share the 2 cores under ctest -j2, and spinning
+    // threads would inflate the CPU seconds the baseline's ratio judges (scripts/main.sh).
+    text += fmt::format("set_tests_properties({} PROPERTIES LABELS {} TIMEOUT 900 "
+                        "ENVIRONMENT OMP_WAIT_POLICY=passive)\n",
                         bracket(c.id), bracket(fmt::format("{}", fmt::join(labels, ";"))));
   }
   write_file_atomic(output, text);

@@ -81,7 +81,7 @@ struct VerifyOptions {
   std::string history;
   bool no_history = false;
   bool update_baseline = false;
-  std::string report;              ///< empty: reports/<suite name> under the source tree's cwd
+  std::string report;              ///< empty: runs/<suite name> under the working directory
   bool no_report = false;
   bool vtk = true;  ///< the command line's default for verify is false (--vtk=none)
   /// --vtk=finest: each study's finest resolution only.

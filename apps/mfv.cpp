@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
   cmd_verify->add_flag("--update-baseline", ver.update_baseline,
                        "record this run's numbers as the baseline");
   auto* ver_report =
-      cmd_verify->add_option("--report,-r", ver.report, "report directory (default reports/<suite>)")
+      cmd_verify->add_option("--report,-r", ver.report, "report directory (default runs/<suite>)")
           ->check(non_empty_path("--report"));
   cmd_verify->add_flag("--no-report", ver.no_report, "write no report")->excludes(ver_report);
   // The nightly writes no fields by default: every resolution's were 94 % of a report (210
@@ -252,7 +252,7 @@ int main(int argc, char** argv) {
       ->check(finite_in(1e-15, 1e6, false, "--tolerance"));
 
   mfv::HistoryCommandOptions hist;
-  hist.history = "reports/default.history.sqlite";
+  hist.history = "runs/default.history.sqlite";
   auto* cmd_history = app.add_subcommand(
       "history", "a verification history: the runs; a case's quantities with their trend; one "
                  "quantity over the runs");
@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
                           "none: the runs");
   cmd_history->add_option("quantity", hist.quantity, "the quantity, when not in CASE/QUANTITY");
   cmd_history->add_option("--history", hist.history,
-                          "the SQLite history (default reports/default.history.sqlite, the "
+                          "the SQLite history (default runs/default.history.sqlite, the "
                           "nightly's)")
       ->check(non_empty_path("--history"));
   cmd_history->add_option("--last", hist.last, "how many runs (default 20)")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job: install missing Debian packages, build Release, run the default verification
-# suite and leave its report in reports/default/ (reports/default-full/ with --full).
+# suite and leave its report in runs/default/ (runs/default-full/ with --full).
 # Exit status: 0 all cases inside their bands and the baseline, 1 a regression, 2 bad input.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,4 +21,4 @@ cmake --build --preset release
 # the CPU seconds the report records (issue 28 measured the spread; README). A caller's own
 # setting wins.
 export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
-build/release/apps/mfv verify suites/default.toml "${full[@]}" --report "reports/$run"
+build/release/apps/mfv verify suites/default.toml "${full[@]}" --report "runs/$run"

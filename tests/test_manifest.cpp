@@ -728,6 +728,8 @@ bool same_double(double a, double b) {
 ::testing::AssertionResult SameBaseline(const Baseline& a, const Baseline& b) {
   if (a.suite != b.suite)
     return ::testing::AssertionFailure() << "suite " << a.suite << " vs " << b.suite;
+  if (a.machine != b.machine)
+    return ::testing::AssertionFailure() << "machine " << a.machine << " vs " << b.machine;
   if (a.cases.size() != b.cases.size())
     return ::testing::AssertionFailure() << a.cases.size() << " vs " << b.cases.size() << " cases";
   for (const auto& [id, ca] : a.cases) {
@@ -738,6 +740,15 @@ bool same_double(double a, double b) {
       return ::testing::AssertionFailure() << id << ": rates differ";
     if (ca.resolutions.size() != cb.resolutions.size())
       return ::testing::AssertionFailure() << id << ": resolution counts differ";
+    if (!same_double(ca.cpu_seconds, cb.cpu_seconds))
+      return ::testing::AssertionFailure() << id << ": CPU seconds differ";
+    for (std::size_t i = 0; i < ca.resolutions.size(); ++i) {
+      const auto &x = ca.resolutions[i].headline, &y = cb.resolutions[i].headline;
+      if (x.size() != y.size()) return ::testing::AssertionFailure() << id << ": headline counts differ";
+      for (const auto& [k, v] : x)
+        if (!y.contains(k) || !same_double(v, y.at(k)))
+          return ::testing::AssertionFailure() << id << ": headline '" << k << "' differs";
+    }
     for (std::size_t i = 0; i < ca.resolutions.size(); ++i) {
       const auto &x = ca.resolutions[i], &y = cb.resolutions[i];
       if (x.nodes != y.nodes || !same_double(x.l2, y.l2) || !same_double(x.h1, y.h1) ||
@@ -763,6 +774,17 @@ Baseline sample_baseline() {
   one.h1_rate = kNaN;
   one.resolutions = {{11, std::nextafter(0.1, 1.0), kNaN, 3.0, -0.0}};
   b.cases["advection-diffusion/rkpm \"quoted\""] = one;
+  // Headlines and CPU: keys with quotes, Unicode and a control character survive.
+  BaselineCase ring;
+  ring.l2_rate = ring.h1_rate = kNaN;
+  ring.resolutions = {{11, kNaN, kNaN, kNaN, kNaN, {{"σθθ vs 1D at 0.1 ms (of p)", 0.1234567890123456},
+                                                     {"a \"quoted\" key\\", -3.0},
+                                                     {"tab\there", 1e300},
+                                                     {"not reached", kNaN}}},
+                      {21, kNaN, kNaN, kNaN, kNaN, {}}};
+  ring.cpu_seconds = 12.5;
+  b.cases["ring/sph"] = ring;
+  b.machine = machine_note("Some CPU @ 2.0GHz", 2, 2);
   return b;
 }
 
@@ -779,6 +801,19 @@ TEST_F(BaselineTest, RoundTripIsExact) {
   ExpectMessage(text, {"h1_rate = 0.33333333333333331\n", "[meta]", "suite = \"default\""});
   // Sorted ids: "advection..." before "laplace...".
   EXPECT_LT(text.find("advection-diffusion"), text.find("laplace-tanh/fem"));
+}
+
+TEST_F(BaselineTest, HeadlinesCpuAndMachineRoundTrip) {
+  const Baseline b = sample_baseline();
+  const std::string text = baseline_to_toml(b);
+  ExpectMessage(text, {"machine = \"Some CPU @ 2.0GHz, 2 hardware threads, 2 OpenMP threads\"",
+                       "cpu_seconds = 12.5\n", "[cases.\"ring/sph\".headline.11]\n",
+                       "\"tab\\u0009here\" = 1.0000000000000001e+300\n", "\"not reached\" = \"nan\"\n"},
+                {"headline.21"});
+  const Baseline r = load_baseline(write("h.toml", text));
+  EXPECT_TRUE(SameBaseline(b, r));
+  EXPECT_EQ(baseline_to_toml(r), text);
+  EXPECT_TRUE(std::isnan(r.cases.at("laplace-tanh/fem").cpu_seconds)) << "optional: not recorded";
 }
 
 TEST_F(BaselineTest, RoundTripThenCheckDriftIsClean) {
@@ -852,6 +887,22 @@ TEST(BaselineFromStudy, RecordsRatesAndErrors) {
   EXPECT_EQ(c.resolutions[1].l2_rel, 123.0);
   EXPECT_EQ(c.resolutions[1].h1_rel, 164.0);
 
+  EXPECT_TRUE(c.resolutions[1].headline.empty());
+
+  // Every headline but the computer's times and speeds; CPU of every resolution together.
+  s.cases[0].headline = {{"period (s)", 0.25}, {"CPU per step (s)", 1e-3},
+                         {"particle-steps per second", 1e6}, {"unstable", NAN}};
+  s.cases[0].cpu.setup = 1;
+  s.cases[1].cpu.solve = 2;
+  const BaselineCase h = baseline_from_study(s);
+  EXPECT_EQ(h.resolutions[0].headline.size(), 2u);
+  EXPECT_EQ(h.resolutions[0].headline.at("period (s)"), 0.25);
+  EXPECT_TRUE(std::isnan(h.resolutions[0].headline.at("unstable")));
+  EXPECT_DOUBLE_EQ(h.cpu_seconds, 3.0);
+  EXPECT_TRUE(is_timing_headline("set-up CPU (s)"));
+  EXPECT_TRUE(is_timing_headline("CPU minutes"));
+  EXPECT_FALSE(is_timing_headline("half-drain time (s)"));
+
   s.cases.pop_back();
   const BaselineCase one = baseline_from_study(s);
   EXPECT_TRUE(std::isnan(one.l2_rate));
@@ -901,7 +952,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadBaseline{"Inf", with_l2("inf"), 5, "not finite"},
         BadBaseline{"MinusInf", with_l2("-inf"), 5, "not finite"},
         BadBaseline{"Nan", with_l2("nan"), 5, "not finite"},
-        BadBaseline{"PlusInf", with_l2("+inf"), 5, "not finite"}),
+        BadBaseline{"PlusInf", with_l2("+inf"), 5, "not finite"},
+        BadBaseline{"HeadlineNotByNodes", with_l2("1") + "\n[cases.a.headline.fine]\nx = 1\n", 8,
+                    "must be a table named by a resolution's nodes"},
+        BadBaseline{"HeadlineOfNoResolution", with_l2("1") + "\n[cases.a.headline.99]\nx = 1\n",
+                    8, "names no resolution of the case"},
+        BadBaseline{"HeadlineNotANumber", with_l2("1") + "\n[cases.a.headline.21]\nx = \"big\"\n",
+                    9, "'x' must be a number"},
+        BadBaseline{"CpuInf", with_l2("1") + "cpu_seconds = inf\n", 7, "not finite"}),
     RowName());
 
 // ---------------------------------------------------------------------------------------------
@@ -1019,7 +1077,55 @@ const std::vector<DriftCheck> kDriftChecks = {
     {"InfiniteBaselineDoesNotSwitchTheCheckOff",
      drifted([](BaselineCase& c) { c.resolutions[0].l2 = kInf; }), drift_case(),
      {{"l2", 21, false}}},
+    // Headlines: any move beyond the tolerance fails (no better direction); a lost one
+    // fails, a new one only asks for an update; within the tolerance nothing.
+    {"HeadlineMovesAreWorseEitherWay",
+     drifted([](BaselineCase& c) {
+       c.resolutions[0].headline = {{"period (s)", 0.25}, {"onset (ms)", 2.0}, {"gone", 1.0},
+                                    {"steady", 10.0}};
+     }),
+     drifted([](BaselineCase& c) {
+       c.resolutions[0].headline = {{"period (s)", 0.2}, {"onset (ms)", 2.2}, {"new", 3.0},
+                                    {"steady", 10.4}};
+     }),
+     {{"headline: gone", 21, true, {}, eq(1.0), kIsNaN, {"not measured by this run"}},
+      {"headline: new", 21, false, {}, kIsNaN, eq(3.0), {"--update-baseline"}},
+      {"headline: onset (ms)", 21, true, near(0.1, 1e-12), eq(2.0), eq(2.2),
+       {"+10.00% change", "explain it"}},
+      {"headline: period (s)", 21, true, near(0.2, 1e-12), eq(0.25), eq(0.2),
+       {"-20.00% change"}}}},
+    {"HeadlineNaNAgainstAValueIsWorse",
+     drifted([](BaselineCase& c) { c.resolutions[1].headline = {{"unstable at (ms)", kNaN}}; }),
+     drifted([](BaselineCase& c) { c.resolutions[1].headline = {{"unstable at (ms)", 0.3}}; }),
+     {{"headline: unstable at (ms)", 41, true}}},
+    // CPU is judged only on the same machine: the default here is another one.
+    {"CpuIsNotComparedAcrossMachines", drifted([](BaselineCase& c) { c.cpu_seconds = 1; }),
+     drifted([](BaselineCase& c) { c.cpu_seconds = 100; }), {}},
 };
+
+TEST(CpuDrift, AGenerousRatioOnTheSameMachine) {
+  auto cpu = [](double seconds) {
+    return drifted([seconds](BaselineCase& c) { c.cpu_seconds = seconds; });
+  };
+  auto drifts = [&](double base, double now) {
+    return check_drift("a", cpu(base), cpu(now), 0.05, 1e-12, true);
+  };
+  EXPECT_TRUE(drifts(10, 29).empty()) << "2.9× is inside the ratio";
+  auto slower = drifts(10, 31);
+  ASSERT_EQ(slower.size(), 1u);
+  EXPECT_EQ(slower[0].metric, "cpu_seconds");
+  EXPECT_TRUE(slower[0].worse);
+  EXPECT_NE(slower[0].message.find("3.1× the baseline"), std::string::npos) << slower[0].message;
+  EXPECT_TRUE(drifts(0.1, 1.5).empty()) << "15× but 1.4 s: a short case's noise";
+  auto faster = drifts(31, 10);
+  ASSERT_EQ(faster.size(), 1u);
+  EXPECT_FALSE(faster[0].worse);
+  EXPECT_TRUE(drifts(kNaN, 100).empty()) << "not recorded: not compared";
+  EXPECT_TRUE(same_machine(machine_note("X", 2, 2), machine_note("X", 2, 2)));
+  EXPECT_FALSE(same_machine(machine_note("X", 2, 2), machine_note("X", 2, 1)));
+  EXPECT_FALSE(same_machine("", ""));
+  EXPECT_FALSE(same_machine(machine_note("", 2, 2), machine_note("", 2, 2)));
+}
 
 INSTANTIATE_TEST_SUITE_P(Baseline, DriftChecks, ::testing::ValuesIn(kDriftChecks), RowName());
 

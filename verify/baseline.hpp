@@ -13,12 +13,21 @@
 //     { nodes = 21, l2 = 1.2e-2, h1 = 0.3, l2_rel = 5.1e-3, h1_rel = 4.4e-2 },
 //     ...
 //   ]
+//   cpu_seconds = 0.52          # the whole study, every resolution (optional)
+//
+//   [cases."laplace-tanh/fem".headline.21]   # every headline measured at 21 nodes (optional)
+//   "tip deflection" = 8.89e-3
+//
+// [meta] machine names where the CPU seconds were measured (the CPU model and hardware
+// threads, then the OpenMP threads and wait policy): CPU is compared only on the same CPU
+// model and thread count, and then judged by a generous ratio (kCpuRatio), not a tolerance.
 //
 // Numbers carry 17 significant digits so that writing and re-reading is exact. "h1" is the H1
 // seminorm ‖e'‖ (ErrorNorms::h1_semi), as in the manifest's bands. The string "nan" records
 // "no value" (a norm the problem does not measure, a checkpoint a run did not reach, a rate of
 // one resolution); a float inf or nan is a load error naming file:line.
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -30,17 +39,39 @@ namespace mfv {
 struct BaselineEntry {
   int nodes = 0;
   double l2 = 0, h1 = 0, l2_rel = 0, h1_rel = 0;
+  /// Every headline the case measured at this resolution (NaN: measured nothing), except the
+  /// timing ones (is_timing_headline), which the CPU ratio watches instead.
+  std::map<std::string, double> headline = {};
 };
 
 struct BaselineCase {
   double l2_rate = 0, h1_rate = 0;
   std::vector<BaselineEntry> resolutions;  ///< increasing nodes
+  /// CPU seconds of the whole study (every resolution); NaN: not recorded.
+  double cpu_seconds = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Baseline {
   std::map<std::string, BaselineCase> cases;  ///< keyed by manifest case id
   std::string suite;                          ///< the manifest's suite name ([meta] suite)
+  /// Where the CPU seconds were measured ([meta] machine, machine_note()); "" : unknown.
+  std::string machine;
 };
+
+/// A CPU time is a regression when it exceeds kCpuRatio × the baseline's and the baseline's
+/// plus kCpuFloorSeconds (a short case's seconds are noise), on the machine that recorded it.
+/// Generous on purpose: CPU seconds of one case spread by about ±10 % over runs on a quiet
+/// machine (issue 28's 5-run measurement), and a real slowdown is a factor.
+inline constexpr double kCpuRatio = 3;
+inline constexpr double kCpuFloorSeconds = 2;
+
+/// A headline that is a time or speed of the computer, not of the physics ("CPU per step
+/// (s)", "particle-steps per second"): kept out of BaselineEntry::headline.
+bool is_timing_headline(const std::string& key);
+
+/// The machine note of [meta] machine: "<CPU model>, <n> hardware threads, <t> OpenMP
+/// threads". Two notes with the same CPU model, hardware threads and OpenMP threads compare.
+std::string machine_note(const std::string& cpu, unsigned cores, int threads);
 
 /// Reads a baseline. A missing file is an empty baseline (nothing recorded yet); an unreadable
 /// or malformed one throws InputError "<file>:<line>: <what>; <how to fix>".
@@ -50,13 +81,16 @@ Baseline load_baseline(const std::filesystem::path& path);
 /// unchanged file and a diff shows only what moved.
 std::string baseline_to_toml(const Baseline& b);
 
-/// The record of one study: its rates (common rule) and, per resolution, spec.nodes and the
-/// errors l2, h1_semi, l2_rel, h1_semi_rel.
+/// The record of one study: its rates (common rule), per resolution spec.nodes, the errors
+/// l2, h1_semi, l2_rel, h1_semi_rel and every headline but the timing ones, and the CPU
+/// seconds of every resolution together.
 BaselineCase baseline_from_study(const StudyResult& s);
 
 struct Drift {
   std::string case_id;
-  std::string metric;  ///< l2, h1, l2_rel, h1_rel, l2_rate, h1_rate, or "resolution"
+  /// l2, h1, l2_rel, h1_rel, l2_rate, h1_rate, "headline: <key>", cpu_seconds, or
+  /// "resolution"
+  std::string metric;
   int nodes = 0;       ///< the resolution; 0 for the rates
   double baseline = 0, current = 0;
   double relative = 0;  ///< errors: |cur-base|/max(|base|,floor); rates: |cur-base|/max(1,|base|)
@@ -68,10 +102,21 @@ struct Drift {
 /// Errors at each resolution present in both: a drift when the relative change exceeds
 /// `tolerance`, unless both values are below `floor` (round-off); worse = cur > base.
 /// Rates: a drift when |cur - base| > tolerance·max(1, |base|); worse = cur < base.
+/// Headlines at each resolution present in both: a drift when the relative change exceeds
+/// `tolerance` (unless both are below `floor`); a headline has no better direction, so every
+/// such move is worse (it fails until the baseline is updated on purpose). A headline the
+/// baseline holds and this run lacks is worse; a new one only asks for --update-baseline.
+/// CPU: worse when above kCpuRatio × the baseline's and its plus kCpuFloorSeconds, a note
+/// (not worse) when as many times faster; compared only when `same_machine`.
 /// A resolution present in only one of them is a drift of metric "resolution" (NaN values)
 /// asking to re-run --update-baseline. A non-finite value (NaN, inf) against a number is a
 /// drift, worse when the current value is the non-finite one; NaN against NaN is not.
 std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& base,
-                               const BaselineCase& current, double tolerance, double floor);
+                               const BaselineCase& current, double tolerance, double floor,
+                               bool same_machine = false);
+
+/// Whether CPU seconds recorded under machine note `a` compare with those of `b`: both known
+/// and equal.
+bool same_machine(const std::string& a, const std::string& b);
 
 }  // namespace mfv

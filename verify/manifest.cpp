@@ -323,7 +323,7 @@ ManifestCase parse_case(const Reporter& r, const toml::table& t) {
   return c;
 }
 
-/// A suite name becomes a directory under reports/: a name, never a path.
+/// A suite name becomes a directory under runs/: a name, never a path.
 bool is_plain_name(const std::string& s) {
   if (s.empty() || s.size() > 100 || !std::isalnum(static_cast<unsigned char>(s.front())))
     return false;
@@ -345,7 +345,7 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
     m.name = get_string(r, *v, "name");
     if (!is_plain_name(m.name))
       r.fail(line_of(*v), fmt::format("suite name '{}' is not a plain name", m.name),
-             "a suite name names the report directory reports/<name>: use letters, digits, '.', "
+             "a suite name names the report directory runs/<name>: use letters, digits, '.', "
              "'_' and '-', starting with a letter or digit (no '/' or '..')");
   }
   if (auto v = t->get("description")) m.description = get_string(r, *v, "description", true);

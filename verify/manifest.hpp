@@ -5,7 +5,7 @@
 //   [suite]                                   # optional table
 //   name = "default"                          # default: the manifest's file name without .toml
 //   description = "nightly 1D verification"
-//   baseline = "../reports/baseline/default.toml"  # relative to the manifest's directory;
+//   baseline = "baseline/default.toml"        # relative to the manifest's directory;
 //                                             # omitted: no baseline, no drift checks
 //   drift_tolerance = 0.05                    # relative; > 0; a number that moves more is flagged
 //   drift_floor = 1e-12                       # absolute, >= 0: errors below it are round-off
