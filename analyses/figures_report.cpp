@@ -110,7 +110,7 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
                                fig.title, fig.id);
     }
   }
-  return section_page(catalogue, *problem, section, title, std::move(page));
+  return section_page(catalogue, *problem, section, title, std::move(page), dir);
 }
 
 std::string FigureAnalysis::page(const Registries& plugins, const ReportSection& section,

@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -246,8 +247,69 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
   return md + "\n";
 }
 
+std::vector<PaperTable> paper_tables(const Problem& problem,
+                                     const std::vector<StudyResult>& studies,
+                                     const Params& problem_defaults) {
+  const auto rows = published_rows(problem, studies, problem_defaults);
+  std::vector<PaperTable> out;
+  std::vector<std::string> sources;
+  for (const auto& r : rows) {
+    const std::string& src = r.published.source;
+    const bool table = src.find("Table") != std::string::npos || src.find("table") != std::string::npos;
+    if (table && std::find(sources.begin(), sources.end(), src) == sources.end())
+      sources.push_back(src);
+  }
+  for (const auto& src : sources) {
+    // Rows: (quantity,) n; columns: each method's paper value and ours, in the order the
+    // problem lists them (the paper's order).
+    std::vector<std::string> methods, quantities;
+    std::vector<int> nodes;
+    std::map<std::tuple<std::string, int, std::string>, const PublishedRow*> cell;
+    for (const auto& r : rows) {
+      const PublishedValue& p = r.published;
+      if (p.source != src) continue;
+      const std::string m = method_text(p);
+      if (std::find(methods.begin(), methods.end(), m) == methods.end()) methods.push_back(m);
+      if (std::find(quantities.begin(), quantities.end(), p.quantity) == quantities.end())
+        quantities.push_back(p.quantity);
+      if (std::find(nodes.begin(), nodes.end(), p.nodes) == nodes.end()) nodes.push_back(p.nodes);
+      cell.try_emplace({p.quantity, p.nodes, m}, &r);
+    }
+    if (cell.size() < 2) continue;  // one value is a row of the list above, not a table
+    std::sort(nodes.begin(), nodes.end());
+    PaperTable t;
+    t.source = src;
+    t.table.head = {"quantity", "n"};
+    for (const auto& m : methods) {
+      t.table.head.push_back(m + ": paper");
+      t.table.head.push_back(m + ": ours");
+    }
+    t.table.align.assign(t.table.head.size(), 'r');
+    t.table.align[0] = 'l';
+    for (const auto& q : quantities)
+      for (int n : nodes) {
+        std::vector<std::string> line = {q, std::to_string(n)};
+        bool any = false;
+        for (const auto& m : methods) {
+          const auto it = cell.find({q, n, m});
+          if (it == cell.end()) {
+            line.insert(line.end(), {"", ""});
+            continue;
+          }
+          any = true;
+          const PublishedRow& r = *it->second;
+          line.push_back(value_text(r.published.value));
+          line.push_back(r.ours.empty() ? "not run" : value_text(r.ours.front().second));
+        }
+        if (any) t.table.rows.push_back(std::move(line));
+      }
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
-                            const Params& problem_defaults) {
+                            const Params& problem_defaults, const std::string& problem_key) {
   const auto rows = published_rows(problem, studies, problem_defaults);
   std::string md;
   MarkdownTable t({"source", "quantity", "method", "n", "paper", "ours", "ours/paper",
@@ -311,10 +373,19 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
                         problem.resolution_name());
     md += "\n";
   }
+  // The paper's tables rebuilt from the rows above: its values with ours beside each.
+  for (const auto& t : paper_tables(problem, studies, problem_defaults))
+    md += fmt::format("**{} in the paper's layout** (a row per quantity and {}, the paper's value "
+                      "and ours per method; the first matching study's value; CSV and LaTeX: "
+                      "`tables/{}/{}.csv`, `.tex`):\n\n{}\n",
+                      t.source, problem.resolution_name(), slug(problem_key),
+                      paper_table_stem(t.source), t.table.markdown());
   const auto explain = problem.published_notes();
   md += paragraphs(explain);
   return md;
 }
+
+std::string paper_table_stem(const std::string& source) { return "paper-" + slug(source); }
 
 std::string problem_page(const std::string& title, const std::string& description,
                          const PageParts& parts) {
@@ -336,11 +407,18 @@ std::string problem_page(const std::string& title, const std::string& descriptio
 
 std::string section_page(const Registries& plugins, const Problem& problem,
                          const ReportSection& section, const std::string& title,
-                         PageParts page) {
+                         PageParts page, const std::filesystem::path& dir) {
   page.findings = findings_block(plugins, problem, section.studies);
-  page.published =
-      published_block(problem, section.studies,
-                      resolved_case_params(plugins, section.problem, Params{}, section.analysis));
+  const Params defaults =
+      resolved_case_params(plugins, section.problem, Params{}, section.analysis);
+  page.published = published_block(problem, section.studies, defaults, section.problem);
+  // The paper tables as files: tables/<problem>/paper-<source>.csv and .tex.
+  for (const auto& t : paper_tables(problem, section.studies, defaults)) {
+    const std::filesystem::path sub = dir / "tables" / slug(section.problem);
+    std::filesystem::create_directories(sub);
+    write_file_atomic(sub / (paper_table_stem(t.source) + ".csv"), t.table.csv());
+    write_file_atomic(sub / (paper_table_stem(t.source) + ".tex"), t.table.tex());
+  }
   return problem_page(title, plugins.problems.entry(section.problem).description, page);
 }
 
@@ -480,7 +558,7 @@ std::string write_scalar_page(const Registries& catalogue, const ReportSection& 
         write_vtk_collections(dir, base, section.studies,
                               {{".vtp", write_case_vtp}, {"-line.vtp", write_line_vtp}},
                               section.vtk_finest_only);
-  return section_page(catalogue, *problem, section, title, std::move(page));
+  return section_page(catalogue, *problem, section, title, std::move(page), dir);
 }
 
 ConvergenceJudgement judge_study(const StudyResult& study,

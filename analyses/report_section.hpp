@@ -11,6 +11,7 @@
 #include "analyses/analysis.hpp"
 #include "analyses/case.hpp"
 #include "reports/convergence.hpp"
+#include "reports/convergence_table.hpp"
 #include "reports/plot.hpp"
 
 namespace mfv {
@@ -74,9 +75,26 @@ std::vector<PublishedRow> published_rows(const Problem& problem,
 /// with ours, the paper's, the ratio ours/paper, the verdict of compare_value under the
 /// value's tolerance and numbered notes right under the table (the value's note, other
 /// studies that measured it); then the values not run in this suite, grouped, and the
-/// problem's published_notes. Empty without published values and notes.
+/// problem's published_notes; then each paper table (paper_tables) in the paper's layout,
+/// naming its files under tables/<problem_key>/. Empty without published values and notes.
 std::string published_block(const Problem& problem, const std::vector<StudyResult>& studies,
-                            const Params& problem_defaults = {});
+                            const Params& problem_defaults = {},
+                            const std::string& problem_key = "problem");
+
+/// A paper's table rebuilt with ours beside each entry (issue 28): every published value
+/// whose source names a table ("004 II Table 1", "001 §9.2, Table 3") and that has at least
+/// two entries, as a row per quantity and resolution and, per method in the problem's order
+/// (the paper's), the paper's value and ours (the first matching study's; "not run" where
+/// none ran it).
+struct PaperTable {
+  std::string source;
+  TextTable table;
+};
+std::vector<PaperTable> paper_tables(const Problem& problem,
+                                     const std::vector<StudyResult>& studies,
+                                     const Params& problem_defaults = {});
+/// The file stem of a paper table: "paper-<slug of the source>".
+std::string paper_table_stem(const std::string& source);
 /// One finding of a problem checked on the studies that ran.
 struct FindingOutcome {
   const Finding* finding = nullptr;
@@ -124,10 +142,11 @@ std::string problem_page(const std::string& title, const std::string& descriptio
 
 /// A problem's page from the parts an analysis writes: the findings and the published values
 /// (the same blocks for every analysis) are filled in here, then problem_page lays it out
-/// under the problem's description.
+/// under the problem's description. Writes the paper tables' CSV and LaTeX under
+/// `dir`/tables/<problem>/.
 std::string section_page(const Registries& plugins, const Problem& problem,
                          const ReportSection& section, const std::string& title,
-                         PageParts page);
+                         PageParts page, const std::filesystem::path& dir);
 /// The methods part: "- `<label>`: <what>" per study (`item` gives label and text, already
 /// joined), then one "**could not run:**" item per failure of the section.
 std::string methods_list(const ReportSection& section,

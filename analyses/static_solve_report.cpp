@@ -206,7 +206,7 @@ std::string write_elasticity_section(const Registries& catalogue, const ReportSe
             dir, base, section.studies,
             {{".vtp", write_particles_vtp}, {"-quadrature.vtp", write_quadrature_vtp}},
             section.vtk_finest_only);
-  return section_page(catalogue, *problem, section, title, std::move(page));
+  return section_page(catalogue, *problem, section, title, std::move(page), dir);
 }
 
 }  // namespace mfv

@@ -387,7 +387,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                   "default); `--vtk=all` writes every resolution.\n";
     page.vtk += "\n";
   }
-  return section_page(catalogue, *problem, section, title, std::move(page));
+  return section_page(catalogue, *problem, section, title, std::move(page), dir);
 }
 
 }  // namespace mfv

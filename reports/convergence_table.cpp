@@ -243,4 +243,53 @@ std::string ConvergenceTable::csv() const {
   return out;
 }
 
+namespace {
+
+/// The table's rows, each checked against the header: a short row is a caller's bug that would
+/// shift every cell of a paper's table.
+void check_rows(const TextTable& t) {
+  for (std::size_t r = 0; r < t.rows.size(); ++r)
+    if (t.rows[r].size() != t.head.size())
+      throw std::invalid_argument(fmt::format("TextTable: row {} has {} cells for {} columns", r,
+                                              t.rows[r].size(), t.head.size()));
+}
+
+std::vector<char> alignment(const TextTable& t) {
+  if (!t.align.empty()) return t.align;
+  std::vector<char> a(t.head.size(), 'r');
+  if (!a.empty()) a[0] = 'l';
+  return a;
+}
+
+}  // namespace
+
+std::string TextTable::markdown() const {
+  check_rows(*this);
+  MarkdownTable t(head, alignment(*this));
+  for (const auto& r : rows) t.add_row(r);
+  return t.str();
+}
+
+std::string TextTable::csv() const {
+  check_rows(*this);
+  auto line = [](const std::vector<std::string>& cells) {
+    std::vector<std::string> f;
+    for (const auto& c : cells) f.push_back(csv_field(c));
+    return fmt::format("{}\n", fmt::join(f, ","));
+  };
+  std::string out = line(head);
+  for (const auto& r : rows) out += line(r);
+  return out;
+}
+
+std::string TextTable::tex() const {
+  check_rows(*this);
+  std::string spec;
+  for (char a : alignment(*this)) spec += a;
+  std::string out = fmt::format("\\begin{{tabular}}{{{}}}\n\\toprule\n", spec);
+  out += tex_row(head) + "\\midrule\n";
+  for (const auto& r : rows) out += tex_row(r);
+  return out + "\\bottomrule\n\\end{tabular}\n";
+}
+
 }  // namespace mfv

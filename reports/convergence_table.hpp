@@ -125,4 +125,16 @@ class ConvergenceTable {
   std::string footer_label_ = "least squares";
 };
 
+/// A table of text cells written three ways: Markdown for the report, CSV for machines and
+/// LaTeX (booktabs) for a paper; a published table beside ours, in the paper's layout.
+struct TextTable {
+  std::vector<std::string> head;
+  std::vector<char> align;                  ///< 'l', 'r' or 'c' per column; empty: first 'l', rest 'r'
+  std::vector<std::vector<std::string>> rows;  ///< each as many cells as head (checked)
+
+  std::string markdown() const;
+  std::string csv() const;
+  std::string tex() const;
+};
+
 }  // namespace mfv

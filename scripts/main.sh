@@ -18,7 +18,7 @@ scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 # Idle OpenMP threads sleep instead of spinning: on a loaded machine spinning threads burn
-# the CPU seconds the report records (issue 28 measured the spread; README). A caller's own
+# the CPU seconds the report records (issue 28 measured the spread; docs/benchmarks.md). A caller's own
 # setting wins.
 export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 build/release/apps/mfv verify suites/default.toml "${full[@]}" --report "runs/$run"

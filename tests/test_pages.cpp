@@ -306,6 +306,37 @@ TEST(ProblemPage, AStudyStoppedCoarseIsListedUnrankedNotTheRankingsResolution) {
   EXPECT_NE(rows[2].find("(21)"), std::string::npos) << "its finest error shown: " << rows[2];
 }
 
+TEST(ProblemPage, PaperTablesInThePapersLayoutAsMarkdownCsvAndLatex) {
+  TempDir dir("mfv-pages");
+  write_problem_section(catalogue(), laplace_section(), dir.path(), false);
+  const std::string page = read_file(dir.path() / "problems" / "laplace-tanh.md");
+  EXPECT_NE(page.find("**004 II Table 1 in the paper's layout**"), std::string::npos) << page;
+  const fs::path csv = dir.path() / "tables" / "laplace-tanh" / "paper-004-ii-table-1.csv";
+  ASSERT_TRUE(fs::exists(csv)) << page;
+  const std::string text = read_file(csv);
+  // The paper's columns: RKPM at each dilation, then FEM; a row per node count.
+  const std::string head = text.substr(0, text.find('\n'));
+  EXPECT_EQ(head.find("quantity,n,\"rkpm j=0.5,kernel=gaussian: paper\""), 0u) << head;
+  EXPECT_TRUE(head.ends_with(",fem: paper,fem: ours")) << head;
+  // 241 nodes: the paper's FEM 9.7967 beside ours, 10 − 30/241; RKPM not run here.
+  EXPECT_NE(text.find("peak du/dx at x=3,241,9.858,not run,"), std::string::npos) << text;
+  EXPECT_NE(text.find(",9.7967,9.8755\n"), std::string::npos) << text;
+  const std::string tex = read_file(csv.parent_path() / "paper-004-ii-table-1.tex");
+  EXPECT_NE(tex.find("\\begin{tabular}{lrrrrrrrrrrrrrrr}"), std::string::npos) << tex;
+  EXPECT_NE(tex.find("& 9.7967 & 9.8755 \\\\"), std::string::npos) << tex;
+  EXPECT_NE(tex.find("\\toprule"), std::string::npos);
+  EXPECT_NE(tex.find("\\bottomrule"), std::string::npos);
+}
+
+TEST(TextTable, ShortRowsAreRefusedAndCsvQuotes) {
+  TextTable t{{"a", "b"}, {}, {{"x, y", "1"}}};
+  EXPECT_EQ(t.csv(), "a,b\n\"x, y\",1\n");
+  EXPECT_NE(t.tex().find("x, y & 1 \\\\"), std::string::npos) << t.tex();
+  t.rows.push_back({"only one"});
+  EXPECT_THROW(t.csv(), std::invalid_argument);
+  EXPECT_THROW(t.markdown(), std::invalid_argument);
+}
+
 TEST(ProblemPage, PublishedValuesOneRowEachWithRatioAndVerdict) {
   TempDir dir("mfv-pages");
   ReportSection section = laplace_section();
