@@ -70,7 +70,7 @@ std::string gp_quote(const std::string& s) {
 // hues (no greys: grey is the reference lines'); filled, then open, markers. The marker
 // cycle (7) is coprime with the palette (20); past the palette the lines are dashed.
 constexpr std::array<const char*, kPaletteSize> kColours = {
-    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000",
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#882255",
     "#8C564B", "#7F3C8D", "#66A61E", "#E7298A", "#1F3A93", "#A6761D", "#17BECF",
     "#BCBD22", "#9E0142", "#5E4FA2", "#F46D43", "#4D4D00", "#FB9A99"};
 constexpr std::array<int, 7> kPointTypes = {7, 5, 9, 13, 11, 6, 4};
@@ -443,8 +443,13 @@ std::optional<std::string> run_gnuplot(const fs::path& gnuplot, const fs::path& 
 bool gnuplot_available() { return find_on_path("gnuplot").has_value(); }
 
 std::string gnuplot_script(const PlotSpec& spec) {
-  const std::vector<bool> off = off_scale_series(spec);
+  // Off scale only on a linear axis: decide the axis without the candidates first (a blow-up
+  // alone must not turn the axis logarithmic), and keep them when it is logarithmic anyway.
+  std::vector<bool> off = spec.mark_off_scale && !spec.logy
+                              ? off_scale_series(spec)
+                              : std::vector<bool>(spec.series.size(), false);
   const bool logy = use_logy(spec, off);
+  if (logy) std::fill(off.begin(), off.end(), false);
   const auto series = filtered(spec, logy, off);
   return series.empty() ? std::string() : build_script(spec, series, logy);
 }

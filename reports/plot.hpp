@@ -39,7 +39,8 @@ inline constexpr std::size_t kMaxCurves = 8;
 /// kOffScaleFactor (from the curve below, and from every reference) are off scale, if they
 /// are fewer than half (any number when a reference sets the scale). The axis is fitted to
 /// the others, the curve is clipped at its edge and its legend entry says "off scale" with
-/// its peak, so one blown-up run does not squeeze the rest into a strip.
+/// its peak, so one blown-up run does not squeeze the rest into a strip. Linear y axes only
+/// (a logarithmic one shows every size) and only with PlotSpec::mark_off_scale.
 inline constexpr double kOffScaleFactor = 20;
 
 struct PlotSpec {
@@ -57,6 +58,9 @@ struct PlotSpec {
   /// at the largest x; ignored unless both axes are logarithmic.
   std::vector<int> reference_slopes;
   std::string reference_variable = "h";
+  /// Mark a blown-up curve off scale (kOffScaleFactor) on a linear y axis. Off where the
+  /// curves are different quantities (a run's probes), whose sizes differ by nature.
+  bool mark_off_scale = true;
 };
 
 /// The y-range ratio from which auto_logy switches to a log axis.

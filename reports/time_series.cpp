@@ -239,7 +239,8 @@ PlotSpec history_plot(const TimeHistory& h, const std::vector<std::string>& colu
   spec.title = title;
   spec.xlabel = xlabel;
   spec.ylabel = ylabel;
-  spec.style = "lines";  // histories have thousands of samples: markers would hide the curve
+  spec.style = "lines";  // computed curves get a marker every tenth of their samples
+  spec.mark_off_scale = false;  // one run's columns are different quantities
   const std::vector<double> t = h.column("time");
   std::vector<std::string> names = columns;
   if (names.empty())

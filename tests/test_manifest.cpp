@@ -901,6 +901,8 @@ TEST(BaselineFromStudy, RecordsRatesAndErrors) {
   EXPECT_DOUBLE_EQ(h.cpu_seconds, 3.0);
   EXPECT_TRUE(is_timing_headline("set-up CPU (s)"));
   EXPECT_TRUE(is_timing_headline("CPU minutes"));
+  EXPECT_TRUE(is_timing_headline("particle-steps/s")) << "the notched beam's throughput";
+  EXPECT_FALSE(is_timing_headline("max speed (m/s)"));
   EXPECT_FALSE(is_timing_headline("half-drain time (s)"));
 
   s.cases.pop_back();

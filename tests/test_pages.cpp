@@ -677,6 +677,15 @@ TEST(PlotScript, ABlownUpCurveIsMarkedOffScaleAndTheAxisFitsTheRest) {
   // A reference sets the scale too: one computed curve far above it is off scale.
   one.series.push_back({"exact", {0, 1}, {0, 1}, SeriesRole::reference});
   EXPECT_NE(gnuplot_script(one).find("off scale"), std::string::npos);
+  // Not on a logarithmic axis (it shows every size), nor where the caller says the curves
+  // are different quantities.
+  one.logy = true;
+  one.series[0].y = {1, 1e9};
+  one.series[1].y = {1, 2};
+  EXPECT_EQ(gnuplot_script(one).find("off scale"), std::string::npos);
+  one.logy = false;
+  one.mark_off_scale = false;
+  EXPECT_EQ(gnuplot_script(one).find("off scale"), std::string::npos);
 }
 
 TEST(PlotScript, ALogAxisWithinADecadeGetsLabelledTics) {

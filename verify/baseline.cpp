@@ -184,7 +184,8 @@ BaselineCase baseline_from_study(const StudyResult& s) {
 bool is_timing_headline(const std::string& key) {
   std::string lower;
   for (char ch : key) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return lower.find("cpu") != std::string::npos || lower.find("per second") != std::string::npos;
+  return lower.find("cpu") != std::string::npos || lower.find("per second") != std::string::npos ||
+         lower.find("steps/s") != std::string::npos;
 }
 
 std::string machine_note(const std::string& cpu, unsigned cores, int threads) {

@@ -66,7 +66,8 @@ inline constexpr double kCpuRatio = 3;
 inline constexpr double kCpuFloorSeconds = 2;
 
 /// A headline that is a time or speed of the computer, not of the physics ("CPU per step
-/// (s)", "particle-steps per second"): kept out of BaselineEntry::headline.
+/// (s)", "particle-steps per second", "particle-steps/s"): kept out of
+/// BaselineEntry::headline.
 bool is_timing_headline(const std::string& key);
 
 /// The machine note of [meta] machine: "<CPU model>, <n> hardware threads, <t> OpenMP
