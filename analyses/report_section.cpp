@@ -279,6 +279,38 @@ std::vector<PaperTable> paper_tables(const Problem& problem,
     std::sort(nodes.begin(), nodes.end());
     PaperTable t;
     t.source = src;
+    // A table whose methods each sit at one resolution of their own (001 Table 3: SPH at
+    // 481 × 41, KBM si at 349 × 30 …) has a row per method, as the paper prints it.
+    std::map<std::string, std::set<int>> nodes_of;
+    for (const auto& [key, row] : cell) nodes_of[std::get<2>(key)].insert(std::get<1>(key));
+    const bool one_each = nodes.size() > 1 && std::all_of(nodes_of.begin(), nodes_of.end(),
+                                                          [](const auto& e) { return e.second.size() == 1; });
+    if (one_each) {
+      t.table.head = {"method", "n"};
+      for (const auto& q : quantities) {
+        t.table.head.push_back(q + ": paper");
+        t.table.head.push_back(q + ": ours");
+      }
+      t.table.align.assign(t.table.head.size(), 'r');
+      t.table.align[0] = 'l';
+      for (const auto& m : methods) {
+        const int n = *nodes_of[m].begin();
+        std::vector<std::string> line = {m, std::to_string(n)};
+        for (const auto& q : quantities) {
+          const auto it = cell.find({q, n, m});
+          if (it == cell.end()) {
+            line.insert(line.end(), {"", ""});
+            continue;
+          }
+          const PublishedRow& r = *it->second;
+          line.push_back(value_text(r.published.value));
+          line.push_back(r.ours.empty() ? "not run" : value_text(r.ours.front().second));
+        }
+        t.table.rows.push_back(std::move(line));
+      }
+      out.push_back(std::move(t));
+      continue;
+    }
     t.table.head = {"quantity", "n"};
     for (const auto& m : methods) {
       t.table.head.push_back(m + ": paper");
@@ -375,8 +407,9 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
   }
   // The paper's tables rebuilt from the rows above: its values with ours beside each.
   for (const auto& t : paper_tables(problem, studies, problem_defaults))
-    md += fmt::format("**{} in the paper's layout** (a row per quantity and {}, the paper's value "
-                      "and ours per method; the first matching study's value; CSV and LaTeX: "
+    md += fmt::format("**{} in the paper's layout** (a row per method where each has its own "
+                      "resolution, else per quantity and resolution; the paper's value and ours "
+                      "side by side, n counting {}; the first matching study's value; CSV and LaTeX: "
                       "`tables/{}/{}.csv`, `.tex`):\n\n{}\n",
                       t.source, problem.resolution_name(), slug(problem_key),
                       paper_table_stem(t.source), t.table.markdown());

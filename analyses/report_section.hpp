@@ -83,9 +83,11 @@ std::string published_block(const Problem& problem, const std::vector<StudyResul
 
 /// A paper's table rebuilt with ours beside each entry (issue 28): every published value
 /// whose source names a table ("004 II Table 1", "001 §9.2, Table 3") and that has at least
-/// two entries, as a row per quantity and resolution and, per method in the problem's order
-/// (the paper's), the paper's value and ours (the first matching study's; "not run" where
-/// none ran it).
+/// two entries: a row per method (with its resolution) when every method sits at one
+/// resolution of its own, as 001 Table 3 prints it, with the paper's value and ours per
+/// quantity; else a row per quantity and resolution with, per method in the problem's order
+/// (the paper's), the paper's value and ours. Ours is the first matching study's; "not run"
+/// where none ran it.
 struct PaperTable {
   std::string source;
   TextTable table;
