@@ -63,12 +63,36 @@ TEST(ResultsJson, CompareWritesAValidResultsFile) {
   EXPECT_NEAR(fem["rates"]["common"]["l2"]["least_squares"].get<double>(), 2.0, 0.5);
   EXPECT_EQ(fem["rates"]["common"]["l2"]["pairwise"].size(), 1u);
   EXPECT_TRUE(fem["resolutions"][0]["headline"].contains("peak du/dx at x=3"));
+  // Each headline name with its stable id and stated unit.
+  ASSERT_TRUE(fem["headlines"].is_array());
+  bool peak = false;
+  for (const auto& h : fem["headlines"])
+    if (h["name"] == "peak du/dx at x=3") {
+      peak = true;
+      EXPECT_EQ(h["id"], "peak_du_per_dx_at_x_3");
+      EXPECT_EQ(h["unit"], "");
+    }
+  EXPECT_TRUE(peak) << fem["headlines"].dump();
   EXPECT_TRUE(fem["method_params"].is_object());
   // Table 1's FEM column at 21 and 41 nodes, with ours and a computed verdict.
   ASSERT_EQ(fem["published"].size(), 2u);
   EXPECT_EQ(fem["published"][0]["source"], "004 II Table 1");
   EXPECT_EQ(fem["published"][0]["verdict"], "reproduced");
   EXPECT_TRUE(doc["findings"].is_array());
+}
+
+TEST(ResultsJson, HeadlineIdsAreAsciiWordsAndUnitsOnlyRecognisedOnes) {
+  EXPECT_EQ(headline_id("σθθ vs 1D at 0.1 ms (of p)"), "sigma_theta_theta_vs_1d_at_0_1_ms_of_p");
+  EXPECT_EQ(headline_id("band fit ψ+ (deg)"), "band_fit_psi_plus_deg");
+  EXPECT_EQ(headline_id("band fit ψ− (deg)"), "band_fit_psi_minus_deg");
+  EXPECT_EQ(headline_id("u(a) / Lamé − 1"), "u_a_per_lam_minus_1");
+  EXPECT_EQ(headline_id("half-drain time (s)"), "half_drain_time_s");
+  EXPECT_EQ(headline_id("()"), "headline");
+  EXPECT_EQ(headline_unit("half-drain time (s)"), "s");
+  EXPECT_EQ(headline_unit("mean outflow (kg/s per m)"), "kg/s per m");
+  EXPECT_EQ(headline_unit("σθθ vs 1D at 0.1 ms (of p)"), "") << "a qualifier, not a unit";
+  EXPECT_EQ(headline_unit("drained in band"), "");
+  EXPECT_EQ(headline_unit("broken (s"), "");
 }
 
 TEST(ResultsJson, NonFiniteNumbersAreNullWithAReason) {

@@ -3,7 +3,12 @@
 #include "verify/provenance.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
+#include <map>
+#include <set>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -52,6 +57,20 @@ std::string token(const std::string& s) {
   }
   return out;
 }
+
+/// The units headline names state in their last parentheses (every name of the default suite
+/// was read, 2026-12-05): SI and the papers' scaled ones (a wavenumber in π/dx, a time in
+/// dx/c, wave transits or sound crossings, Martin & Moyce's Z/a, H/a and T).
+constexpr std::array<const char*, 28> kUnits = {
+    "s", "ms", "m", "mm", "m/s", "1/s", "Pa", "MPa", "GPa", "N/m", "J", "J/m", "deg",
+    "rad", "kg/s per m", "kg", "kg/m³", "T", "Z/a", "H/a", "pi/dx", "c pi/dx", "dx/c",
+    "c kappa", "transits l/c", "crossings", "nominal strain", "m²"};
+
+/// Greek letters and signs of headline names, spelled out in ASCII.
+constexpr std::array<std::pair<const char*, const char*>, 16> kSpelled = {{
+    {"σ", "sigma"}, {"θ", "theta"}, {"ε", "epsilon"}, {"ψ", "psi"}, {"ρ", "rho"},
+    {"Δ", "delta"}, {"α", "alpha"}, {"β", "beta"}, {"ω", "omega"}, {"λ", "lambda"},
+    {"μ", "mu"}, {"ν", "nu"}, {"τ", "tau"}, {"−", "minus"}, {"+", "plus"}, {"²", "2"}}};
 
 /// The error norms of a case, each measured (as its analysis says) or null with the reason.
 json norms_json(const ErrorNorms& e, int components, const MeasuredErrors& m,
@@ -190,6 +209,52 @@ json run_json(const RunInfo& run) {
 
 }  // namespace
 
+std::string headline_id(const std::string& name) {
+  std::string words;
+  auto separate = [&words] {
+    if (!words.empty() && words.back() != '_') words += '_';
+  };
+  for (std::size_t i = 0; i < name.size();) {
+    bool spelled = false;
+    for (const auto& [sign, word] : kSpelled) {
+      const std::size_t len = std::char_traits<char>::length(sign);
+      if (name.compare(i, len, sign) == 0) {
+        separate();
+        words += word;
+        separate();
+        i += len;
+        spelled = true;
+        break;
+      }
+    }
+    if (spelled) continue;
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (std::isalnum(c) && c < 0x80) {
+      words += static_cast<char>(std::tolower(c));
+    } else if (c == '/') {
+      separate();
+      words += "per";
+      separate();
+    } else {
+      separate();
+    }
+    ++i;
+  }
+  while (!words.empty() && words.back() == '_') words.pop_back();
+  return words.empty() ? std::string("headline") : words;
+}
+
+std::string headline_unit(const std::string& name) {
+  const std::size_t open = name.rfind('(');
+  if (open == std::string::npos) return "";
+  const std::size_t close = name.find(')', open);
+  if (close == std::string::npos) return "";
+  const std::string inside = name.substr(open + 1, close - open - 1);
+  for (const char* u : kUnits)
+    if (inside == u) return inside;
+  return "";
+}
+
 json study_json(const Registries& catalogue, const StudyResult& study, const std::string& at,
                 JsonNumbers& n) {
   json out = json::object();
@@ -210,6 +275,23 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
                                      ->resolution_name()
                                : "nodes";
   out["perturbation"] = first.spec.perturbation;
+  // The headline names of every resolution with their stable ids and stated units.
+  {
+    std::map<std::string, std::string> ids;  // name → id, unique within the study
+    std::set<std::string> taken;
+    for (const auto& r : study.cases)
+      for (const auto& [k, v] : r.headline) {
+        if (ids.contains(k)) continue;
+        std::string id = headline_id(k);
+        for (int suffix = 2; taken.contains(id); ++suffix) id = fmt::format("{}_{}", headline_id(k), suffix);
+        taken.insert(id);
+        ids[k] = id;
+      }
+    json headlines = json::array();
+    for (const auto& [k, id] : ids)
+      headlines.push_back({{"name", k}, {"id", id}, {"unit", headline_unit(k)}});
+    out["headlines"] = headlines;
+  }
   json resolutions = json::array();
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const CaseResult& r = study.cases[i];

@@ -39,6 +39,18 @@ struct RunInfo {
   double wall_seconds = 0, cpu_seconds = 0;
 };
 
+/// A headline's stable identifier: its name in lower-case ASCII words joined by '_' (Greek
+/// letters spelled out, '+' "plus", '−' "minus", '/' "per", other signs dropped), so that
+/// "σθθ vs 1D at 0.1 ms (of p)" is "sigma_theta_theta_vs_1d_at_0_1_ms_of_p". Stable as long as
+/// the name is; never empty ("headline" for a name with no letter or digit).
+std::string headline_id(const std::string& name);
+
+/// The unit a headline's name states in its last parentheses ("half-drain time (s)" → "s",
+/// "σθθ (Pa), row mean" → "Pa", "unstable at (ms)" → "ms"), or "" where the name states none
+/// (ratios, counts, verdict flags and relative errors mostly). Only recognised units count:
+/// "(of p)" or "(particle sum)" are qualifiers, not units.
+std::string headline_unit(const std::string& name);
+
 /// One study: parameters, per-resolution errors by norm name (common and paper rules), rates
 /// by norm name (least squares and pairwise), CPU seconds, headline values and the analysis
 /// verdicts. `pointer` is where it sits in the document (for "nulls").
