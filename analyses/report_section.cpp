@@ -279,6 +279,29 @@ std::vector<PaperTable> paper_tables(const Problem& problem,
     std::sort(nodes.begin(), nodes.end());
     PaperTable t;
     t.source = src;
+    // The header: the row keys, then a paper / ours pair per column.
+    auto header = [&t](const char* first, const std::vector<std::string>& columns) {
+      t.table.head = {first, "n"};
+      for (const auto& c : columns) {
+        t.table.head.push_back(c + ": paper");
+        t.table.head.push_back(c + ": ours");
+      }
+      t.table.align.assign(t.table.head.size(), 'r');
+      t.table.align[0] = 'l';
+    };
+    // The paper's value and ours at (quantity, n, method), or two empty cells; true if found.
+    auto pair = [&cell](std::vector<std::string>& line, const std::string& q, int n,
+                        const std::string& m) {
+      const auto it = cell.find({q, n, m});
+      if (it == cell.end()) {
+        line.insert(line.end(), {"", ""});
+        return false;
+      }
+      const PublishedRow& r = *it->second;
+      line.push_back(value_text(r.published.value));
+      line.push_back(r.ours.empty() ? "not run" : value_text(r.ours.front().second));
+      return true;
+    };
     // A table whose methods each sit at one resolution of their own (001 Table 3: SPH at
     // 481 × 41, KBM si at 349 × 30 …) has a row per method, as the paper prints it.
     std::map<std::string, std::set<int>> nodes_of;
@@ -286,55 +309,23 @@ std::vector<PaperTable> paper_tables(const Problem& problem,
     const bool one_each = nodes.size() > 1 && std::all_of(nodes_of.begin(), nodes_of.end(),
                                                           [](const auto& e) { return e.second.size() == 1; });
     if (one_each) {
-      t.table.head = {"method", "n"};
-      for (const auto& q : quantities) {
-        t.table.head.push_back(q + ": paper");
-        t.table.head.push_back(q + ": ours");
-      }
-      t.table.align.assign(t.table.head.size(), 'r');
-      t.table.align[0] = 'l';
+      header("method", quantities);
       for (const auto& m : methods) {
         const int n = *nodes_of[m].begin();
         std::vector<std::string> line = {m, std::to_string(n)};
-        for (const auto& q : quantities) {
-          const auto it = cell.find({q, n, m});
-          if (it == cell.end()) {
-            line.insert(line.end(), {"", ""});
-            continue;
-          }
-          const PublishedRow& r = *it->second;
-          line.push_back(value_text(r.published.value));
-          line.push_back(r.ours.empty() ? "not run" : value_text(r.ours.front().second));
-        }
+        for (const auto& q : quantities) pair(line, q, n, m);
         t.table.rows.push_back(std::move(line));
       }
-      out.push_back(std::move(t));
-      continue;
-    }
-    t.table.head = {"quantity", "n"};
-    for (const auto& m : methods) {
-      t.table.head.push_back(m + ": paper");
-      t.table.head.push_back(m + ": ours");
-    }
-    t.table.align.assign(t.table.head.size(), 'r');
-    t.table.align[0] = 'l';
-    for (const auto& q : quantities)
-      for (int n : nodes) {
-        std::vector<std::string> line = {q, std::to_string(n)};
-        bool any = false;
-        for (const auto& m : methods) {
-          const auto it = cell.find({q, n, m});
-          if (it == cell.end()) {
-            line.insert(line.end(), {"", ""});
-            continue;
-          }
-          any = true;
-          const PublishedRow& r = *it->second;
-          line.push_back(value_text(r.published.value));
-          line.push_back(r.ours.empty() ? "not run" : value_text(r.ours.front().second));
+    } else {
+      header("quantity", methods);
+      for (const auto& q : quantities)
+        for (int n : nodes) {
+          std::vector<std::string> line = {q, std::to_string(n)};
+          bool any = false;
+          for (const auto& m : methods) any = pair(line, q, n, m) || any;
+          if (any) t.table.rows.push_back(std::move(line));
         }
-        if (any) t.table.rows.push_back(std::move(line));
-      }
+    }
     out.push_back(std::move(t));
   }
   return out;
