@@ -746,10 +746,20 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       } else if (o.update_baseline) {
         // A number the baseline held that this run did not measure (NaN) is a lost
         // measurement, never a new record: the case fails and keeps its old entry.
+        // A headline the run measured as NaN is a value ("not unstable", "not reached"), not
+        // a loss; a headline it no longer measures at all is one.
+        auto headline_absent = [&current](const Drift& d) {
+          const std::string key = d.metric.substr(std::string("headline: ").size());
+          for (const auto& e : current.resolutions)
+            if (e.nodes == d.nodes) return !e.headline.contains(key);
+          return true;
+        };
         std::vector<Drift> lost;
         if (const auto it = baseline.cases.find(mc.id); it != baseline.cases.end())
           for (const Drift& d : check_drift(mc.id, it->second, current, INFINITY, 0))
-            if (std::isfinite(d.baseline) && !std::isfinite(d.current)) lost.push_back(d);
+            if (std::isfinite(d.baseline) && !std::isfinite(d.current) &&
+                (!d.metric.starts_with("headline: ") || headline_absent(d)))
+              lost.push_back(d);
         for (Drift& d : lost)
           d.message = fmt::format("{}: {}{}: the baseline holds {:.6g}, this run measured "
                                   "nothing; its baseline entry is kept (fix the run, or remove "

@@ -178,6 +178,28 @@ TEST_F(Commands, UpdateBaselineKeepsANumberTheRunLostAndRefusesAnotherSuitesBase
       << out;
   EXPECT_EQ(load_baseline(dir_ / "baseline.toml").cases.at("rod").resolutions.front().h1, 0.5);
 
+  // Headlines: one the run no longer measures is lost the same way; one it measures with
+  // another value is simply updated.
+  b.cases.at("rod").resolutions.front().h1 = std::nan("");
+  auto& headline = b.cases.at("rod").resolutions.front().headline;
+  ASSERT_FALSE(headline.empty()) << "the rod pulse records its headlines";
+  const std::string measured = headline.begin()->first;
+  headline[measured] = 12345.0;
+  headline["a headline no run measures"] = 1.0;
+  std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
+  EXPECT_EQ(verify(m, out, true), 1) << out;
+  EXPECT_NE(out.find("rod: headline: a headline no run measures at 25 nodes: the baseline "
+                     "holds 1, this run measured nothing"),
+            std::string::npos)
+      << out;
+  headline.erase("a headline no run measures");
+  std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
+  EXPECT_EQ(verify(m, out, true), 0) << out;
+  EXPECT_NE(load_baseline(dir_ / "baseline.toml").cases.at("rod").resolutions.front().headline.at(
+                measured),
+            12345.0)
+      << "updated to this run's value";
+
   b.suite = "another";
   std::ofstream(dir_ / "baseline.toml") << baseline_to_toml(b);
   try {
