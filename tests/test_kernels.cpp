@@ -69,6 +69,20 @@ TEST_P(KernelConformance, PositiveAndDecreasingInsideSupport) {
   EXPECT_EQ(k->value(k->support() * 1.01), 0.0);
 }
 
+TEST_P(KernelConformance, ADimensionParameterNormalizesToOneInThatDimension) {
+  // A kernel that declares `dim` promises C normalizing it in that dimension (001 eq 15's
+  // cubic-spline constants; Wendland's and the quintic spline's in their headers).
+  const Params defaults = test_catalogue().kernels.resolve(GetParam(), {});
+  if (!defaults.has("dim")) GTEST_SKIP() << GetParam() << " declares no dimension";
+  for (int dim = 1; dim <= 3; ++dim) {
+    Params p;
+    p.set("dim", dim);
+    const auto k = test_catalogue().kernels.create(GetParam(), p);
+    EXPECT_NEAR(k->integral(dim), 1.0, 1e-13) << "dimension " << dim;
+    EXPECT_NEAR(radial_integral(*k, dim), 1.0, 1e-6) << "dimension " << dim;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllKernels, KernelConformance,
                          ::testing::ValuesIn(test_catalogue().kernels.keys()));
 
@@ -81,6 +95,21 @@ TEST(Kernels, NormalizedCubicSplineConstants) {
     EXPECT_NEAR(k->integral(dim), 1.0, 1e-14);
     EXPECT_NEAR(radial_integral(*k, dim), 1.0, 1e-6);
   }
+}
+
+TEST(Kernels, WendlandAndQuinticValuesAtTheCentre) {
+  // W(0) = C: Dehnen & Aly's 2D constants 7/π, 9/π, 78/(7π) for support H = 2 are 7/(4π),
+  // 9/(4π), 78/(28π); the quintic spline's 2D C is 7/(478π), times the bracket's 3⁵ − 6·2⁵ + 15.
+  Params two;
+  two.set("dim", 2);
+  const auto& k = test_catalogue().kernels;
+  EXPECT_NEAR(k.create("wendland-c2", two)->value(0), 7 / (4 * M_PI), 1e-15);
+  EXPECT_NEAR(k.create("wendland-c4", two)->value(0), 9 / (4 * M_PI), 1e-15);
+  EXPECT_NEAR(k.create("wendland-c6", two)->value(0), 78 / (28 * M_PI), 1e-15);
+  EXPECT_NEAR(k.create("quintic-spline", two)->value(0), 7 / (478 * M_PI) * 66, 1e-15);
+  Params four;
+  four.set("dim", 4);
+  EXPECT_THROW(k.create("wendland-c2", four), InputError);
 }
 
 }  // namespace
