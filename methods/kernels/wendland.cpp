@@ -8,8 +8,9 @@
 /// dimension `dim`: C = 1/raw(dim) with raw = ∫ f(|x|/2) dx over R^dim,
 ///   C2: 4/3, 4π/7, 16π/21;  C4: 32/27, 4π/9, 256π/495;  C6: 16/15, 14π/39, 512π/1365,
 /// i.e. Dehnen & Aly's 7/π, 21/(2π), 9/π, 495/(32π), 78/(7π), 1365/(64π) for H = 2 in 2D/3D.
-/// Not mfv's test-extension kernel `wendland` (tests/test_support.hpp), Wendland's ψ₂,₁ =
-/// (1 − s)³(1 + 3s), which is positive definite in 1D only.
+/// Not mfv's test-extension kernel `wendland` (tests/example_kernel.cpp, registered by its
+/// own `register_wendland`, hence this file's `register_wendland_kernels`), Wendland's
+/// ψ₂,₁ = (1 − s)³(1 + 3s), which is positive definite in 1D only.
 #include <array>
 
 #include "methods/kernels/register.hpp"
@@ -78,7 +79,7 @@ void add(KernelRegistry& r, const char* name, Smoothness k, const char* what) {
 
 }  // namespace
 
-void register_wendland(KernelRegistry& r) {
+void register_wendland_kernels(KernelRegistry& r) {
   add(r, "wendland-c2", Smoothness::c2,
       "Wendland C2 (1-r)^4(1+4r), r = s/2 < 1, positive definite up to 3D (Dehnen & Aly 2012)");
   add(r, "wendland-c4", Smoothness::c4,
