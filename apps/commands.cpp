@@ -748,17 +748,10 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
         // measurement, never a new record: the case fails and keeps its old entry.
         // A headline the run measured as NaN is a value ("not unstable", "not reached"), not
         // a loss; a headline it no longer measures at all is one.
-        auto headline_absent = [&current](const Drift& d) {
-          const std::string key = d.metric.substr(std::string("headline: ").size());
-          for (const auto& e : current.resolutions)
-            if (e.nodes == d.nodes) return !e.headline.contains(key);
-          return true;
-        };
         std::vector<Drift> lost;
         if (const auto it = baseline.cases.find(mc.id); it != baseline.cases.end())
           for (const Drift& d : check_drift(mc.id, it->second, current, INFINITY, 0))
-            if (std::isfinite(d.baseline) && !std::isfinite(d.current) &&
-                (!d.metric.starts_with("headline: ") || headline_absent(d)))
+            if (d.lost)
               lost.push_back(d);
         for (Drift& d : lost)
           d.message = fmt::format("{}: {}{}: the baseline holds {:.6g}, this run measured "
@@ -774,7 +767,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       } else if (!manifest.baseline.empty()) {
         const auto it = baseline.cases.find(mc.id);
         if (it == baseline.cases.end()) {
-          oc.drifts.push_back(Drift{mc.id, "resolution", 0, 0, 0, 0, false,
+          oc.drifts.push_back(Drift{mc.id, "resolution", 0, 0, 0, 0, false, false,
                                     fmt::format("{}: not in the baseline {}; record it with "
                                                 "`mfv verify {} --update-baseline`",
                                                 mc.id, manifest.baseline.string(), o.manifest)});
@@ -968,7 +961,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     junit.name = manifest.name;
     junit.timestamp = utc_now("%Y-%m-%dT%H:%M:%S");
     junit.seconds = wall;
-    const Provenance prov = provenance();
+    const Provenance& prov = here;
     junit.hostname = prov.hostname;
     junit.properties = {
         {"manifest", o.manifest},

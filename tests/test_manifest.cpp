@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <set>
@@ -1104,6 +1105,24 @@ const std::vector<DriftCheck> kDriftChecks = {
     {"CpuIsNotComparedAcrossMachines", drifted([](BaselineCase& c) { c.cpu_seconds = 1; }),
      drifted([](BaselineCase& c) { c.cpu_seconds = 100; }), {}},
 };
+
+// `lost` marks what --update-baseline must not overwrite: a number the baseline held that this
+// run did not measure. A headline measured as NaN is a value, not a loss.
+TEST(Drift, LostMeansTheBaselineHeldANumberThisRunDidNotMeasure) {
+  const auto base = drifted([](BaselineCase& c) {
+    c.resolutions[0].headline = {{"gone", 1.0}, {"unstable at (ms)", 0.3}};
+  });
+  const auto now = drifted([](BaselineCase& c) {
+    c.resolutions[0].l2 = kNaN;
+    c.resolutions[0].headline = {{"unstable at (ms)", kNaN}};
+  });
+  std::map<std::string, bool> lost;
+  for (const Drift& d : check_drift("a", base, now, INFINITY, 0)) lost[d.metric] = d.lost;
+  EXPECT_EQ(lost, (std::map<std::string, bool>{
+                      {"l2", true}, {"headline: gone", true}, {"headline: unstable at (ms)", false}}));
+  for (const Drift& d : check_drift("a", now, base, INFINITY, 0))
+    EXPECT_FALSE(d.lost) << d.metric << ": a number where the baseline had none is not lost";
+}
 
 TEST(CpuDrift, AGenerousRatioOnTheSameMachine) {
   auto cpu = [](double seconds) {

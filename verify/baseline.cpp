@@ -201,46 +201,48 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
                                const BaselineCase& current, double tolerance, double floor,
                                bool same_machine) {
   std::vector<Drift> out;
+  // How a move counts: an error is worse when larger, a rate when smaller; a headline has no
+  // better direction, so every move beyond the tolerance is one to explain.
+  enum class Worse { larger, smaller, any };
   auto add = [&](const std::string& metric, int nodes, double b, double c, double rel, bool worse,
-                 const std::string& what) {
+                 bool lost, const std::string& what, Worse rule) {
     // `relative` is the magnitude (baseline.hpp); the message keeps the sign of the change.
-    out.push_back(Drift{case_id, metric, nodes, b, c, std::abs(rel), worse,
-                        fmt::format("{}: {} {} {} -> {} ({}); {}", case_id, metric, what,
-                                    fmt::format("{:.6g}", b), fmt::format("{:.6g}", c),
+    const std::string advice =
+        rule == Worse::any ? "a headline moved beyond the tolerance: explain it, and if intended "
+                             "run --update-baseline"
+        : worse            ? "worse than the baseline"
+                           : "better than the baseline; if intended, run --update-baseline";
+    out.push_back(Drift{case_id, metric, nodes, b, c, std::abs(rel), worse, lost,
+                        fmt::format("{}: {}{} {:.6g} -> {:.6g} ({}); {}", case_id, metric,
+                                    what.empty() ? "" : " " + what, b, c,
                                     std::isnan(rel) ? std::string("NaN")
                                                     : fmt::format("{:+.2f}% change", 100 * rel),
-                                    worse ? "worse than the baseline"
-                                          : "better than the baseline; if intended, run "
-                                            "--update-baseline")});
+                                    advice)});
   };
-
-  // A value that is not finite is no value: inf against a number is a drift (worse when it is
-  // the current one), never a NaN relative change that passes every tolerance.
-  auto compare_error = [&](const std::string& metric, int nodes, double b, double c) {
+  // One rule for every number: a value that is not finite is no value, so inf or NaN against
+  // a number is a drift (worse when it is the current one, or always for a headline), never a
+  // NaN relative change that passes every tolerance. Errors and headlines below `floor` on
+  // both sides are round-off; a rate's change is relative to max(1, |base|).
+  auto compare = [&](const std::string& metric, int nodes, double b, double c, Worse rule) {
     const bool bn = !std::isfinite(b), cn = !std::isfinite(c);
     if (bn && cn) return;
-    const std::string where = fmt::format("at {} nodes", nodes);
+    const std::string where = nodes > 0 ? fmt::format("at {} nodes", nodes) : "";
     if (bn || cn) {
-      add(metric, nodes, b, c, kNaN, cn, where);
+      // A NaN error or rate is a measurement lost; a NaN headline is a value.
+      add(metric, nodes, b, c, kNaN, rule == Worse::any || cn, cn && rule != Worse::any, where,
+          rule);
       return;
     }
-    if (std::abs(b) < floor && std::abs(c) < floor) return;
-    const double rel = (c - b) / std::max(std::abs(b), floor);
-    if (std::abs(rel) > tolerance) add(metric, nodes, b, c, rel, c > b, where);
-  };
-  auto compare_rate = [&](const std::string& metric, double b, double c) {
-    const bool bn = !std::isfinite(b), cn = !std::isfinite(c);
-    if (bn && cn) return;
-    if (bn || cn) {
-      add(metric, 0, b, c, kNaN, cn, "");
-      return;
-    }
-    const double rel = (c - b) / std::max(1.0, std::abs(b));
-    if (std::abs(rel) > tolerance) add(metric, 0, b, c, rel, c < b, "");
+    const bool rate = rule == Worse::smaller;
+    if (!rate && std::abs(b) < floor && std::abs(c) < floor) return;
+    const double rel = (c - b) / (rate ? std::max(1.0, std::abs(b)) : std::max(std::abs(b), floor));
+    if (!(std::abs(rel) > tolerance)) return;  // 0/0 (both exactly zero) is no change
+    const bool worse = rule == Worse::any || (rule == Worse::larger ? c > b : c < b);
+    add(metric, nodes, b, c, rel, worse, false, where, rule);
   };
 
-  compare_rate("l2_rate", base.l2_rate, current.l2_rate);
-  compare_rate("h1_rate", base.h1_rate, current.h1_rate);
+  compare("l2_rate", 0, base.l2_rate, current.l2_rate, Worse::smaller);
+  compare("h1_rate", 0, base.h1_rate, current.h1_rate, Worse::smaller);
 
   std::set<int> all;
   for (const auto& e : base.resolutions) all.insert(e.nodes);
@@ -254,7 +256,7 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
     const BaselineEntry* b = find(base, n);
     const BaselineEntry* c = find(current, n);
     if (!b || !c) {
-      out.push_back(Drift{case_id, "resolution", n, kNaN, kNaN, kNaN, false,
+      out.push_back(Drift{case_id, "resolution", n, kNaN, kNaN, kNaN, false, false,
                           fmt::format("{}: {} nodes is {}; the case's resolutions "
                                       "changed: run `mfv verify <manifest> --update-baseline`",
                                       case_id, n,
@@ -262,11 +264,10 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
                                         : "in this run but not in the baseline")});
       continue;
     }
-    compare_error("l2", n, b->l2, c->l2);
-    compare_error("h1", n, b->h1, c->h1);
-    compare_error("l2_rel", n, b->l2_rel, c->l2_rel);
-    compare_error("h1_rel", n, b->h1_rel, c->h1_rel);
-    // Headlines: no better direction, so a move beyond the tolerance is a change to explain.
+    compare("l2", n, b->l2, c->l2, Worse::larger);
+    compare("h1", n, b->h1, c->h1, Worse::larger);
+    compare("l2_rel", n, b->l2_rel, c->l2_rel, Worse::larger);
+    compare("h1_rel", n, b->h1_rel, c->h1_rel, Worse::larger);
     std::set<std::string> keys;
     for (const auto& [k, v] : b->headline) keys.insert(k);
     for (const auto& [k, v] : c->headline) keys.insert(k);
@@ -275,33 +276,17 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
       const std::string metric = "headline: " + k;
       const auto bi = b->headline.find(k), ci = c->headline.find(k);
       if (ci == c->headline.end()) {
-        out.push_back(Drift{case_id, metric, n, bi->second, kNaN, kNaN, std::isfinite(bi->second),
+        const bool finite = std::isfinite(bi->second);
+        out.push_back(Drift{case_id, metric, n, bi->second, kNaN, kNaN, finite, finite,
                             fmt::format("{}: {} {}: in the baseline ({:.6g}), not measured by this "
                                         "run", case_id, metric, where, bi->second)});
-        continue;
-      }
-      if (bi == b->headline.end()) {
-        out.push_back(Drift{case_id, metric, n, kNaN, ci->second, kNaN, false,
+      } else if (bi == b->headline.end()) {
+        out.push_back(Drift{case_id, metric, n, kNaN, ci->second, kNaN, false, false,
                             fmt::format("{}: {} {}: new ({:.6g}), not in the baseline; if "
                                         "intended, run --update-baseline",
                                         case_id, metric, where, ci->second)});
-        continue;
-      }
-      const double bv = bi->second, cv = ci->second;
-      const bool bn = !std::isfinite(bv), cn = !std::isfinite(cv);
-      if (bn && cn) continue;
-      if (bn || cn) {
-        add(metric, n, bv, cv, kNaN, true, where);
-        continue;
-      }
-      if (std::abs(bv) < floor && std::abs(cv) < floor) continue;
-      const double rel = (cv - bv) / std::max(std::abs(bv), floor);
-      if (std::abs(rel) > tolerance) {
-        out.push_back(Drift{case_id, metric, n, bv, cv, std::abs(rel), true,
-                            fmt::format("{}: {} {} {:.6g} -> {:.6g} ({:+.2f}% change); a headline "
-                                        "moved beyond the tolerance: explain it, and if intended "
-                                        "run --update-baseline",
-                                        case_id, metric, where, bv, cv, 100 * rel)});
+      } else {
+        compare(metric, n, bi->second, ci->second, Worse::any);
       }
     }
   }
@@ -310,12 +295,12 @@ std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& b
       base.cpu_seconds > 0 && current.cpu_seconds > 0) {
     const double b = base.cpu_seconds, c = current.cpu_seconds;
     if (c > kCpuRatio * b && c > b + kCpuFloorSeconds)
-      out.push_back(Drift{case_id, "cpu_seconds", 0, b, c, c / b - 1, true,
+      out.push_back(Drift{case_id, "cpu_seconds", 0, b, c, c / b - 1, true, false,
                           fmt::format("{}: cpu_seconds {:.3g} s -> {:.3g} s ({:.1f}× the baseline, "
                                       "above {:g}×): slower on the machine that recorded it",
                                       case_id, b, c, c / b, kCpuRatio)});
     else if (b > kCpuRatio * c && b > c + kCpuFloorSeconds)
-      out.push_back(Drift{case_id, "cpu_seconds", 0, b, c, 1 - c / b, false,
+      out.push_back(Drift{case_id, "cpu_seconds", 0, b, c, 1 - c / b, false, false,
                           fmt::format("{}: cpu_seconds {:.3g} s -> {:.3g} s ({:.2f}× the baseline): "
                                       "faster; if intended, run --update-baseline",
                                       case_id, b, c, c / b)});

@@ -96,6 +96,10 @@ struct Drift {
   double baseline = 0, current = 0;
   double relative = 0;  ///< errors: |cur-base|/max(|base|,floor); rates: |cur-base|/max(1,|base|)
   bool worse = false;   ///< larger error or lower rate; false for a "resolution" mismatch
+  /// The baseline holds a finite number this run did not measure: a non-finite error or rate,
+  /// or a headline absent from the run. A headline measured as NaN is a value (a stable
+  /// run's "unstable at"), not a loss. `--update-baseline` keeps the old entry and fails.
+  bool lost = false;
   std::string message;
 };
 
