@@ -156,21 +156,7 @@ const Definition& definition_of(const AnalysisContext& c, const std::string& ana
                                c.spec.problem, needs, analysis, fmt::join(c.problem.analyses(), ", ")));
 }
 
-void register_static_solve(AnalysisRegistry&);
-void register_transient(AnalysisRegistry&);
-void register_dispersion_analysis(AnalysisRegistry&);
-void register_time_step_analysis(AnalysisRegistry&);
-void register_stretch_map_analysis(AnalysisRegistry&);
-void register_crack_sweep(AnalysisRegistry&);
-
-/// Registers every analysis: add one line here for a new one.
-inline void register_all_analyses(AnalysisRegistry& r) {
-  register_static_solve(r);
-  register_transient(r);
-  register_dispersion_analysis(r);
-  register_time_step_analysis(r);
-  register_stretch_map_analysis(r);
-  register_crack_sweep(r);
-}
+/// Registers every built-in analysis (the list: analyses/register_all.cpp).
+void register_all_analyses(AnalysisRegistry& r);
 
 }  // namespace mfv

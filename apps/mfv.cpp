@@ -10,10 +10,12 @@
 #include <fmt/format.h>
 
 #include "apps/commands.hpp"
+#include "apps/plugins.hpp"
 #include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
 #include "methods/core/names.hpp"
 #include "methods/core/petsc_session.hpp"
+#include "verify/manifest.hpp"
 #include "verify/provenance.hpp"
 
 namespace {
@@ -95,6 +97,13 @@ int main(int argc, char** argv) {
   // Provenance is read only when asked for: /proc/cpuinfo is no business of every run.
   app.set_version_flag("--version", [] { return mfv::version_text(mfv::provenance()); },
                        "version, commit, compiler, build type, libraries and machine");
+  // Plugins (apps/plugin.hpp): loaded before the catalogue is built, so their kernels,
+  // methods, problems and analyses are in every registry; a manifest's [suite] plugins too.
+  std::vector<std::string> plugin_paths;
+  app.add_option("--plugin", plugin_paths,
+                 "load a plugin library (.so) built against this mfv before the command "
+                 "(repeatable; examples/plugin/)")
+      ->type_name("LIB");
   std::string list_what;
   auto* list = app.add_subcommand("list", "name the kernels, approximations, integration rules, "
                                           "methods, problems and analyses");
@@ -331,7 +340,11 @@ int main(int argc, char** argv) {
   std::string message;
   bool other_rank = false;
   try {
-    const mfv::Catalogue catalogue;
+    std::vector<std::filesystem::path> plugin_files(plugin_paths.begin(), plugin_paths.end());
+    if (*cmd_verify)
+      for (const auto& p : mfv::load_manifest(ver.manifest).plugins) plugin_files.push_back(p);
+    const mfv::Plugins plugins(plugin_files);
+    const mfv::Catalogue catalogue(plugins.extensions());
     if (*list) {
       mfv::command_list(catalogue, list_what, out);
       status = flushed(0);

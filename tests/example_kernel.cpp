@@ -1,12 +1,14 @@
-/// Worked example of docs/architecture.md: a new kernel in one file. Wendland-type C2 weight
-/// W(s) = (1 - s)³ (1 + 3s) for s <= 1. In-tree, add `register_wendland(r);` to
-/// register_all_kernels (methods/kernels/register.hpp); this test passes it as an extension.
+/// Worked example of docs/architecture.md: a new kernel in one file. Lucy's kernel (Lucy 1977,
+/// the first SPH kernel), W(s) = (1 − s)³ (1 + 3s) for s ≤ 1: Wendland's ψ₂,₁, positive
+/// definite in 1D only. Registered as `example-lucy`, a name no real kernel takes, by the
+/// tests' catalogue (tests/test_support.hpp) as an extension; in the tree, a kernel file in
+/// methods/kernels/ and its line in methods/kernels/register_all.cpp do the same.
 #include "methods/kernels/register.hpp"
 
 namespace mfv {
 namespace {
 
-class Wendland final : public KernelFormula<Wendland> {
+class Lucy final : public KernelFormula<Lucy> {
  public:
   void formula(double s, double& w, double& dw, double& d2w) const {
     const double t = 1 - s;
@@ -23,9 +25,10 @@ class Wendland final : public KernelFormula<Wendland> {
 
 }  // namespace
 
-void register_wendland(KernelRegistry& r) {
-  r.add("wendland", "Wendland-type C2 weight (1-s)^3 (1+3s), support s<=1 (example plugin)", {},
-        [](const Params&) { return std::make_unique<Wendland>(); });
+void register_example_lucy(KernelRegistry& r) {
+  r.add("example-lucy",
+        "Lucy's kernel (1-s)^3 (1+3s), support s<=1 (Lucy 1977; docs/architecture.md's example)",
+        {}, [](const Params&) { return std::make_unique<Lucy>(); });
 }
 
 }  // namespace mfv

@@ -105,7 +105,11 @@ void register_frozen_shepard(MethodRegistry& r, const MethodParts& parts) {
 }
 
 const Catalogue& catalogue() {
-  static const Catalogue c(Extensions{{register_wendland}, {}, {register_frozen_shepard}, {}, {}});
+  static const Catalogue c = [] {
+    Extensions e = test_extensions();
+    e.methods.push_back(register_frozen_shepard);
+    return Catalogue(e);
+  }();
   return c;
 }
 

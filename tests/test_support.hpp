@@ -2,20 +2,46 @@
 /// methods as test parameters, and a method's discretization where it runs.
 #pragma once
 #include <cctype>
+#include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "apps/catalogue.hpp"
+#include "apps/plugins.hpp"
 #include "methods/core/errors.hpp"
 
 namespace mfv {
 
-void register_wendland(KernelRegistry& r);
+void register_example_lucy(KernelRegistry& r);
 
-/// The built-in catalogue plus the example kernel of docs/architecture.md.
+/// The plugin libraries named by the environment variable MFV_PLUGINS (':'-separated), so an
+/// out-of-tree kernel or method runs through every conformance test here:
+/// `MFV_PLUGINS=libmine.so test_core --gtest_filter='*Conformance*:*Patch*'`.
+inline std::vector<std::filesystem::path> plugins_from_environment() {
+  std::vector<std::filesystem::path> out;
+  const char* env = std::getenv("MFV_PLUGINS");
+  for (std::string rest = env ? env : ""; !rest.empty();) {
+    const auto colon = rest.find(':');
+    if (colon != 0) out.emplace_back(rest.substr(0, colon));
+    rest = colon == std::string::npos ? "" : rest.substr(colon + 1);
+  }
+  return out;
+}
+
+/// The tests' extensions: the example kernel of docs/architecture.md, then the plugins of
+/// MFV_PLUGINS (loaded once).
+inline Extensions test_extensions() {
+  static const Plugins plugins(plugins_from_environment());
+  Extensions e = plugins.extensions();
+  e.kernels.insert(e.kernels.begin(), register_example_lucy);
+  return e;
+}
+
+/// The built-in catalogue plus test_extensions().
 inline const Catalogue& test_catalogue() {
-  static const Catalogue c(Extensions{{register_wendland}, {}, {}, {}, {}});
+  static const Catalogue c(test_extensions());
   return c;
 }
 

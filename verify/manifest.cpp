@@ -335,7 +335,8 @@ bool is_plain_name(const std::string& s) {
 
 void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   static const std::vector<std::string> kKeys = {"name", "description", "baseline",
-                                                 "drift_tolerance", "drift_floor", "ledger"};
+                                                 "drift_tolerance", "drift_floor", "ledger",
+                                                 "plugins"};
   const auto* t = n.as_table();
   if (!t)
     r.fail(line_of(n), fmt::format("'suite' must be a table, got {}", type_name(n)),
@@ -356,6 +357,16 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   if (auto v = t->get("ledger")) {
     const std::filesystem::path l = get_string(r, *v, "ledger");
     m.ledger = l.is_absolute() ? l : m.path.parent_path() / l;
+  }
+  if (auto v = t->get("plugins")) {
+    const auto* a = v->as_array();
+    if (!a)
+      r.fail(line_of(*v), fmt::format("'plugins' must be an array of paths, got {}", type_name(*v)),
+             "write plugins = [\"path/to/libplugin.so\"]");
+    for (const auto& e : *a) {
+      const std::filesystem::path p = get_string(r, e, "plugins entry");
+      m.plugins.push_back(p.is_absolute() ? p : m.path.parent_path() / p);
+    }
   }
   if (auto v = t->get("drift_tolerance")) {
     m.drift_tolerance = get_number(r, *v, "drift_tolerance");

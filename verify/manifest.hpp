@@ -92,6 +92,9 @@ struct Manifest {
   std::string name, description;
   std::filesystem::path baseline;  ///< resolved against the manifest's directory; empty: none
   std::filesystem::path ledger;    ///< likewise: the reproduction ledger; empty: none
+  /// [suite] plugins: libraries loaded before the catalogue is built (apps/plugin.hpp),
+  /// resolved against the manifest's directory, in file order.
+  std::vector<std::filesystem::path> plugins;
   double drift_tolerance = 0.05, drift_floor = 1e-12;
   std::vector<ManifestCase> cases;  ///< in file order
 

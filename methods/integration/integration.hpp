@@ -51,15 +51,7 @@ IntegrationRule uniform_gauss_rule_1d(double a, double b, int cells, int n);
 /// n×n Gauss per cell on a uniform cx × cy grid of a 2D box (error norms).
 IntegrationRule uniform_gauss_rule_2d(const Domain& box, int cx, int cy, int n);
 
-void register_nodal(IntegrationRegistry&);
-void register_gauss_cells(IntegrationRegistry&);
-void register_stress_points(IntegrationRegistry&);
-
-/// Registers every integration scheme: add one line here for a new one.
-inline void register_all_integrations(IntegrationRegistry& r) {
-  register_nodal(r);
-  register_gauss_cells(r);
-  register_stress_points(r);
-}
+/// Registers every integration scheme (the list: methods/integration/register_all.cpp).
+void register_all_integrations(IntegrationRegistry& r);
 
 }  // namespace mfv

@@ -8,9 +8,8 @@
 /// dimension `dim`: C = 1/raw(dim) with raw = ∫ f(|x|/2) dx over R^dim,
 ///   C2: 4/3, 4π/7, 16π/21;  C4: 32/27, 4π/9, 256π/495;  C6: 16/15, 14π/39, 512π/1365,
 /// i.e. Dehnen & Aly's 7/π, 21/(2π), 9/π, 495/(32π), 78/(7π), 1365/(64π) for H = 2 in 2D/3D.
-/// Not mfv's test-extension kernel `wendland` (tests/example_kernel.cpp, registered by its
-/// own `register_wendland`, hence this file's `register_wendland_kernels`), Wendland's
-/// ψ₂,₁ = (1 − s)³(1 + 3s), which is positive definite in 1D only.
+/// Not the tests' example kernel `example-lucy` (tests/example_kernel.cpp), Lucy's
+/// (1 − s)³(1 + 3s) = Wendland's ψ₂,₁, which is positive definite in 1D only.
 #include <array>
 
 #include "methods/kernels/register.hpp"

@@ -46,21 +46,7 @@ class Material {
 
 using MaterialRegistry = Registry<Material>;
 
-void register_svk(MaterialRegistry&);
-void register_plastic_1d(MaterialRegistry&);
-void register_hyperelastic(MaterialRegistry&);
-void register_j2_jaumann(MaterialRegistry&);
-void register_j2_viscoplastic(MaterialRegistry&);
-void register_tait(MaterialRegistry&);
-
-/// Registers every material: add one line here for a new one.
-inline void register_all_materials(MaterialRegistry& r) {
-  register_svk(r);
-  register_plastic_1d(r);
-  register_hyperelastic(r);
-  register_j2_jaumann(r);
-  register_j2_viscoplastic(r);
-  register_tait(r);
-}
+/// Registers every material (the list: methods/materials/register_all.cpp).
+void register_all_materials(MaterialRegistry& r);
 
 }  // namespace mfv

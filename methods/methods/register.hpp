@@ -1,4 +1,5 @@
-/// Method registry and its one-line-per-method registration list.
+/// Method registry type, the parts a method is composed from, and the entry point of the built-in
+/// methods (the list is in register_all.cpp).
 #pragma once
 #include "methods/approximations/register.hpp"
 #include "methods/integration/integration.hpp"
@@ -13,30 +14,8 @@ struct MethodParts {
   const IntegrationRegistry& integrations;
 };
 
-void register_fem(MethodRegistry&, const MethodParts&);
-void register_efg(MethodRegistry&, const MethodParts&);
-void register_rkpm(MethodRegistry&, const MethodParts&);
-void register_sph(MethodRegistry&, const MethodParts&);
-void register_wavelet(MethodRegistry&, const MethodParts&);
-void register_rlm(MethodRegistry&, const MethodParts&);
-void register_kbm(MethodRegistry&, const MethodParts&);  // kbm-ni, kbm-si, kbm-ci
-void register_efg_ni(MethodRegistry&, const MethodParts&);
-void register_efg_ci(MethodRegistry&, const MethodParts&);
-void register_xefg(MethodRegistry&, const MethodParts&);  // 003: EFG with crack enrichment
-
-/// Registers every method: add one line here for a new method.
-inline void register_all_methods(MethodRegistry& r, const MethodParts& parts) {
-  register_fem(r, parts);
-  register_efg(r, parts);
-  register_rkpm(r, parts);
-  register_sph(r, parts);
-  register_wavelet(r, parts);
-  register_rlm(r, parts);
-  register_kbm(r, parts);
-  register_efg_ni(r, parts);
-  register_efg_ci(r, parts);
-  register_xefg(r, parts);
-}
+/// Registers every built-in method (the list: methods/methods/register_all.cpp).
+void register_all_methods(MethodRegistry& r, const MethodParts& parts);
 
 /// Fills trial_q and test_q of a collocation method from the plain SPH table at the particles;
 /// `degenerate` (null: throw) as the particle gradient functions take it. The SPH table is

@@ -1,0 +1,32 @@
+/// Plugins that must be refused, one per compile definition (tests/CMakeLists.txt builds each
+/// as its own library; tests/plugin_test.py runs mfv on them):
+///   MFV_BAD_STALE      built for another mfv: its MFV_PLUGIN_ABI differs
+///   MFV_BAD_CLASH      registers a kernel under a built-in name
+///   MFV_BAD_UNDEFINED  needs a symbol no mfv defines
+///   MFV_BAD_NO_ENTRY   a shared library without MFV_PLUGIN
+///   MFV_BAD_THROWS     its entry point throws
+#include "apps/plugin.hpp"
+
+#if defined(MFV_BAD_STALE)
+extern "C" __attribute__((visibility("default"))) const char* mfv_plugin_abi() {
+  return "mfv 0.0.1, gcc 9";
+}
+extern "C" __attribute__((visibility("default"))) void mfv_plugin_register(mfv::Extensions&) {}
+#elif defined(MFV_BAD_CLASH)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry& r) {
+    r.add("gaussian", "a second gaussian", {}, [](const mfv::Params&) {
+      return std::unique_ptr<mfv::Kernel>();
+    });
+  });
+}
+#elif defined(MFV_BAD_UNDEFINED)
+namespace mfv {
+void a_function_no_mfv_defines(KernelRegistry&);
+}
+MFV_PLUGIN(plugin) { plugin.kernels.push_back(mfv::a_function_no_mfv_defines); }
+#elif defined(MFV_BAD_NO_ENTRY)
+extern "C" int not_a_plugin() { return 1; }
+#elif defined(MFV_BAD_THROWS)
+MFV_PLUGIN(plugin) { throw std::runtime_error("cannot find my data file"); }
+#endif

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Runs mfv with plugins (apps/plugin.hpp): the example plugin's kernel and problem are listed,
+run, studied into a report and verified from a manifest's [suite] plugins; every plugin mfv
+must refuse exits 2 naming the file and the cause. Usage (tests/CMakeLists.txt):
+  plugin_test.py --mfv MFV --example LIB --bad STALE CLASH UNDEFINED NO_ENTRY THROWS --work DIR
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+
+FAILS = []
+
+
+def run(mfv, args, env=None, timeout=300):
+    p = subprocess.run([mfv] + args, capture_output=True, text=True, timeout=timeout,
+                       env=env)
+    return p.returncode, p.stdout, p.stderr
+
+
+def check(what, ok, detail=""):
+    print(("ok    " if ok else "FAIL  ") + what)
+    if not ok:
+        FAILS.append(what)
+        if detail:
+            print("      " + detail.replace("\n", "\n      ")[:2000])
+
+
+def expect(mfv, what, args, code, needles, stream="stderr", cwd_env=None):
+    rc, out, err = run(mfv, args, env=cwd_env)
+    text = err if stream == "stderr" else out
+    missing = [n for n in needles if n not in text]
+    check(what, rc == code and not missing,
+          f"exit {rc} (wanted {code}); missing {missing}\nstdout: {out[-800:]}\nstderr: {err[-800:]}")
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--mfv", required=True)
+    ap.add_argument("--example", required=True)
+    ap.add_argument("--bad", nargs=5, required=True,
+                    metavar=("STALE", "CLASH", "UNDEFINED", "NO_ENTRY", "THROWS"))
+    ap.add_argument("--work", required=True)
+    a = ap.parse_args()
+    mfv, ex = a.mfv, a.example
+    stale, clash, undefined, no_entry, throws = a.bad
+    shutil.rmtree(a.work, ignore_errors=True)
+    os.makedirs(a.work)
+
+    # 1. What the plugin adds is in every registry.
+    expect(mfv, "list kernels names the plugin's kernel", ["--plugin", ex, "list", "kernels"], 0,
+           ["johnson-quadratic", "cubic-spline"], "stdout")
+    expect(mfv, "list problems names the plugin's problem", ["--plugin", ex, "list", "problems"],
+           0, ["sine-bar", "rod-pulse"], "stdout")
+    expect(mfv, "the plugin kernel is a choice of efg", ["--plugin", ex, "list", "efg"], 0,
+           ["johnson-quadratic"], "stdout")
+    expect(mfv, "a library named twice is loaded once",
+           ["--plugin", ex, "--plugin", ex, "list", "kernels"], 0, ["johnson-quadratic"], "stdout")
+    expect(mfv, "without the plugin its kernel is unknown",
+           ["run", "sine-bar", "-m", "efg", "-n", "11"], 2, ["unknown problem 'sine-bar'"])
+
+    # 2. It runs like a built-in: errors, a study, a report.
+    expect(mfv, "run sine-bar with efg on the plugin kernel",
+                 ["--plugin", ex, "run", "sine-bar", "-m", "efg", "-p", "kernel=johnson-quadratic",
+                  "-n", "21"], 0, ["sine-bar"], "stdout")
+    report = os.path.join(a.work, "report")
+    expect(mfv, "study into a report",
+           ["--plugin", ex, "study", "sine-bar", "-m", "efg", "-p", "kernel=johnson-quadratic",
+            "-n", "11", "-n", "21", "-n", "41", "-r", report], 0, [], "stdout")
+    index = os.path.join(report, "index.md")
+    check("the report has an index naming the problem",
+          os.path.isfile(index) and "sine-bar" in open(index, encoding="utf-8").read())
+
+    # 3. A manifest's [suite] plugins, relative to the manifest.
+    suite = os.path.join(a.work, "suite")
+    os.makedirs(suite)
+    shutil.copy(ex, os.path.join(suite, "libexample.so"))
+    with open(os.path.join(suite, "plugin.toml"), "w") as f:
+        f.write('[suite]\nname = "plugin"\nplugins = ["libexample.so"]\n\n'
+                '[[case]]\nid = "sine-bar/efg-johnson"\nproblem = "sine-bar"\nmethod = "efg"\n'
+                'method_params = { kernel = "johnson-quadratic" }\nnodes = [11, 21, 41]\n'
+                '[case.bands]\nl2_rate = [1.5, 3.5]\n')
+    expect(mfv, "verify loads [suite] plugins and judges the case",
+           ["verify", os.path.join(suite, "plugin.toml"), "-r", os.path.join(a.work, "runs")],
+           0, [], "stdout")
+    with open(os.path.join(suite, "missing.toml"), "w") as f:
+        f.write('[suite]\nname = "missing"\nplugins = ["libnothere.so"]\n\n'
+                '[[case]]\nid = "x"\nproblem = "sine-bar"\nmethod = "efg"\nnodes = [11, 21]\n')
+    expect(mfv, "a manifest naming a missing plugin", ["verify",
+           os.path.join(suite, "missing.toml"), "--no-report"], 2,
+           ["libnothere.so", "no such file"])
+    with open(os.path.join(suite, "typed.toml"), "w") as f:
+        f.write('[suite]\nname = "typed"\nplugins = "libexample.so"\n')
+    expect(mfv, "plugins must be an array", ["verify", os.path.join(suite, "typed.toml"),
+           "--no-report"], 2, ["'plugins' must be an array"])
+
+    # 4. Refusals: exit 2, the file and the cause named, nothing run.
+    expect(mfv, "a missing file", ["--plugin", os.path.join(a.work, "nope.so"), "list"], 2,
+           ["nope.so", "no such file"])
+    expect(mfv, "a directory", ["--plugin", a.work, "list"], 2, ["not a regular file (a directory)"])
+    expect(mfv, "a special file", ["--plugin", "/dev/null", "list"], 2,
+           ["not a regular file (a special file)"])
+    expect(mfv, "an empty name", ["--plugin", "", "list"], 2, ["names no file"])
+    text = os.path.join(a.work, "text.so")
+    with open(text, "w") as f:
+        f.write("not a library\n")
+    expect(mfv, "a file that is no library", ["--plugin", text, "list"], 2,
+           ["cannot be loaded", "text.so"])
+    expect(mfv, "a library without MFV_PLUGIN", ["--plugin", no_entry, "list"], 2,
+           ["is not an mfv plugin", "mfv_plugin_abi"])
+    expect(mfv, "a plugin built for another mfv", ["--plugin", stale, "list"], 2,
+           ["was built for mfv 0.0.1, gcc 9", "this program is mfv ", "find_package(mfv CONFIG)"])
+    expect(mfv, "a plugin needing a symbol mfv lacks", ["--plugin", undefined, "list"], 2,
+           ["cannot be loaded", "undefined symbol"])
+    expect(mfv, "a plugin re-registering a built-in kernel", ["--plugin", clash, "list"], 2,
+           ["plugin 'libmfv_bad_plugin_clash.so'", "kernel 'gaussian' registered twice"])
+    expect(mfv, "a plugin whose entry point throws", ["--plugin", throws, "list"], 2,
+           ["failed in mfv_plugin_register", "cannot find my data file"])
+
+    print(f"{len(FAILS)} failed" if FAILS else "all passed")
+    return 1 if FAILS else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
