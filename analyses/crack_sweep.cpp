@@ -28,6 +28,7 @@
 #include "methods/approximations/enriched.hpp"
 #include "methods/core/clock.hpp"
 #include "methods/core/errors.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 #include "problems/enriched_bar.hpp"
 #include "stability/closed_forms.hpp"
 #include "stability/enriched_mass.hpp"
@@ -279,7 +280,7 @@ class CrackSweep final : public FigureAnalysis {
                             {"trimmed", "dmax", "support radius", "alpha row-sum", "alpha MLS1"},
                             {}};
     const double f = support_factor(conv);
-    const auto W = c.plugins.kernels.create(mp.text("kernel"));
+    const auto W = make_kernel(c.plugins.kernels, mp);
     for (bool trimmed : {false, true}) {
       const std::string t = trimmed ? " trimmed" : "";
       // The row sum converges with and without trimming; MLS1 only trimmed (its untrimmed

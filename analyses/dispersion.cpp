@@ -13,6 +13,7 @@
 #include "methods/core/errors.hpp"
 #include "problems/dispersion.hpp"
 #include "methods/kernels/kernel.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 #include "stability/closed_forms.hpp"
 #include "stability/lattice.hpp"
 
@@ -41,7 +42,7 @@ class ClosedFormModel {
     const Params mp = c.plugins.methods.resolve(m, c.spec.method_params);
     if (mp.number("radius") > 0)
       throw InputError("route=closed-form needs the support as dmax (h = D_mx Δx), not radius");
-    W_ = c.plugins.kernels.create(mp.text("kernel"));
+    W_ = make_kernel(c.plugins.kernels, mp);
     dmx_ = mp.number("dmax");
     stress_points_ = m == "kbm-si";
     if (p.dim() == 1) {
@@ -179,16 +180,25 @@ class Dispersion final : public FigureAnalysis {
                            "Stable domain: stable between the curves (000 Figs 5-6)", "κ Δx / π",
                            "σ̄", false, "lines"});
       FigureData::Table mt{"stable-domain", {"theta_deg", "kappa_over_pi_dx", "sigma_lower", "sigma_upper"}, {}};
+      // The map in two numbers: the prestress range stable at every κ and direction. A bound
+      // that is NaN at a κ (no threshold within ±map_limit) does not constrain it; none at
+      // all: stable to the limit.
+      double compression = -p.map_limit, tension = p.map_limit;
       for (double angle : p.angles) {
         const ThresholdCurve tc =
             stress_threshold(zero, unit, angle * pi / 180, points, p.map_limit, p.modulus(), 1.0);
         const std::string at = p.dim() == 1 ? "" : fmt::format(" θ = {}", degrees(angle));
         a.curves.push_back({"stable-domain", "lower bound" + at, tc.kappa, tc.lower});
         a.curves.push_back({"stable-domain", "upper bound" + at, tc.kappa, tc.upper});
-        for (std::size_t i = 0; i < tc.kappa.size(); ++i)
+        for (std::size_t i = 0; i < tc.kappa.size(); ++i) {
           mt.rows.push_back({angle, tc.kappa[i], tc.lower[i], tc.upper[i]});
+          if (std::isfinite(tc.lower[i])) compression = std::max(compression, tc.lower[i]);
+          if (std::isfinite(tc.upper[i])) tension = std::min(tension, tc.upper[i]);
+        }
       }
       a.tables.push_back(std::move(mt));
+      r.headline[kCompressionBound] = compression;
+      r.headline[kTensionBound] = tension;
     }
     eq318_headlines(c, p, a, r);
     verdict_headlines(v, r);
@@ -215,7 +225,7 @@ class Dispersion final : public FigureAnalysis {
         p.frame == KernelFrame::eulerian && p.sigma > 0) {
       const Params mp = c.plugins.methods.resolve(c.spec.method, c.spec.method_params);
       if (!(mp.number("radius") > 0)) {
-        const auto W = c.plugins.kernels.create(mp.text("kernel"));
+        const auto W = make_kernel(c.plugins.kernels, mp);
         const double dmx = mp.number("dmax");
         namespace cf = closed_form;
         const struct {

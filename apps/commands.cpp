@@ -22,6 +22,7 @@
 #include "reports/convergence_table.hpp"
 #include "reports/markdown.hpp"
 #include "analyses/report_section.hpp"
+#include "analyses/kernel_comparison.hpp"
 #include "analyses/case_vtk.hpp"
 #include "methods/core/clock.hpp"
 #include "verify/baseline.hpp"
@@ -52,7 +53,8 @@ void list_entry(const R& r, const std::string& name, std::ostream& out) {
     std::string range;
     if (!p.choices.empty()) range = fmt::format(" {{{}}}", fmt::join(p.choices, "|"));
     else if (p.min) range = fmt::format(" ({} {})", p.min_exclusive ? ">" : ">=", *p.min);
-    out << fmt::format("      {}={}{}  {}\n", p.name, format_value(p.default_value), range,
+    out << fmt::format("      {}={}{}  {}\n", p.name,
+                       p.optional ? std::string("(unset)") : format_value(p.default_value), range,
                        p.description);
   }
 }
@@ -246,6 +248,13 @@ void write_report(const Catalogue& c, StagedDirectory& staged, const std::string
   if (const auto marker = md.find(kProblemsToc); marker != std::string::npos)
     md.replace(marker, std::string(kProblemsToc).size(), toc);
   md += write_convergence_tables(staged.path(), sections);
+  // The same problem and method under different kernels, side by side (issue 29).
+  if (const std::string kernels = kernel_comparison_page(sections); !kernels.empty()) {
+    write_file_atomic(staged.path() / "kernels.md", kernels);
+    md += fmt::format("**Kernels compared**: [kernels.md](kernels.md), {} table(s) of the same "
+                      "problem and method under different kernels.\n\n",
+                      kernel_comparisons(sections).size());
+  }
   md += body;
   for (const auto& [name, content] : files) write_file_atomic(staged.path() / name, content);
   write_file_atomic(staged.path() / "index.md", md);

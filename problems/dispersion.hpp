@@ -20,6 +20,10 @@ inline constexpr const char* kOnset = "onset kappa (pi/dx)";
 inline constexpr const char* kSpuriousKappa = "spurious kappa (pi/dx)";
 inline constexpr const char* kMinRatio = "min omega2/(c kappa)^2";
 inline constexpr const char* kCutoff = "cutoff omega (c pi/dx)";
+/// With map=sigma-kappa: the prestress range stable at every κ and direction, σ̄ (σ/E on the
+/// line, σ/μ in 2D); ∓map_limit when nothing within the limit destabilizes that side.
+inline constexpr const char* kCompressionBound = "compression limit (sigma bar)";
+inline constexpr const char* kTensionBound = "tension limit (sigma bar)";
 /// 000 eq 3.18 (what Fig. 3 plots) for the kbm-ni method's kernel and D_mx, in the two
 /// readings of its w_{,xx} (stability/closed_forms.hpp, Normalization): scanned, and by the
 /// three-point arccos formula (a second route, 1 < D_mx <= 2).

@@ -23,6 +23,7 @@
 #include "reports/plot.hpp"
 #include "analyses/case_vtk.hpp"
 #include "analyses/report_section.hpp"
+#include "analyses/kernel_comparison.hpp"
 #include "reports/vtk.hpp"
 
 // VTK's include directories reach this test only if mfv_reports exports them; without them
@@ -503,3 +504,68 @@ TEST(Vtk, CollectionListsEntriesWithParts) {
       << text;
   EXPECT_EQ(names_in(dir.path()), std::vector<std::string>{"study.pvd"});
 }
+
+namespace mfv {
+namespace {
+
+/// A study of `method` with the given (resolved = given here) parameters and one error per
+/// resolution.
+StudyResult kernel_study(const std::string& method, const std::string& params,
+                         const std::vector<std::pair<int, double>>& errors) {
+  StudyResult s;
+  s.label = method + " " + params;
+  for (const auto& [n, e] : errors) {
+    CaseResult c;
+    c.spec.problem = "p";
+    c.spec.method = method;
+    c.spec.method_params = Params::parse(params);
+    c.spec.nodes = n;
+    c.method_params = c.spec.method_params;
+    c.errors.l2_rel = e;
+    c.headline["energy drift"] = 1e-4;
+    c.headline["peak"] = 3;  // not a compared kind: not shown
+    s.cases.push_back(c);
+  }
+  return s;
+}
+
+TEST(KernelComparison, StudiesDifferingOnlyInTheKernelSideBySideBestFirst) {
+  ReportSection sec;
+  sec.problem = "p";
+  sec.studies = {kernel_study("sph", "kernel=cubic-spline", {{11, 0.4}, {21, 0.1}, {41, 0.03}}),
+                 kernel_study("sph", "kernel=wendland-c2,dmax=3", {{11, 0.3}, {21, 0.05}}),
+                 // Another method parameter: its own group, with one kernel: no table.
+                 kernel_study("sph", "kernel=quintic-spline,mass=uniform", {{11, 0.2}}),
+                 // One kernel only: no table.
+                 kernel_study("efg", "kernel=gaussian", {{11, 0.01}})};
+  const auto all = kernel_comparisons({sec});
+  ASSERT_EQ(all.size(), 1u);
+  const TextTable& t = all[0].table;
+  EXPECT_EQ(all[0].method, "sph");
+  EXPECT_EQ(t.head, (std::vector<std::string>{"kernel", "support (dmax)", "error at 21", "rate",
+                                               "energy drift", "CPU s"}));
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[0][0], "wendland-c2") << "best error at the common resolution first";
+  EXPECT_EQ(t.rows[0][1], "3");
+  EXPECT_EQ(t.rows[0][2], "0.05");
+  EXPECT_EQ(t.rows[1][0], "cubic-spline");
+  EXPECT_EQ(t.rows[1][2], "0.1");
+  EXPECT_NE(kernel_comparison_page({sec}).find("## p: sph"), std::string::npos);
+}
+
+TEST(KernelComparison, NoErrorNoErrorColumnAndNothingToCompareNoPage) {
+  ReportSection sec;
+  sec.problem = "dispersion";
+  sec.studies = {kernel_study("sph", "kernel=cubic-spline", {{41, 0.0}}),
+                 kernel_study("sph", "kernel=wendland-c2", {{41, 0.0}})};
+  const auto all = kernel_comparisons({sec});
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].table.head,
+            (std::vector<std::string>{"kernel", "support (dmax)", "energy drift", "CPU s"}));
+  sec.studies.pop_back();
+  EXPECT_TRUE(kernel_comparisons({sec}).empty());
+  EXPECT_EQ(kernel_comparison_page({sec}), "");
+}
+
+}  // namespace
+}  // namespace mfv

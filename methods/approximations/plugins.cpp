@@ -2,18 +2,22 @@
 #include <fmt/format.h>
 
 #include "methods/approximations/register.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 
 namespace mfv {
 
 namespace {
 
-ParamSpec kernel_param(const KernelRegistry& k, std::string def) {
-  return ParamSpec::choice("kernel", std::move(def), k.keys(), "weight function W(s)");
+/// The kernel choice (methods/kernels/kernel_choice.hpp) followed by `more`.
+ParamSchema with_kernel_choice(const KernelRegistry& k, std::string def, ParamSchema more = {}) {
+  ParamSchema s = kernel_choice(k, std::move(def), "weight function W(s)");
+  for (auto& spec : more) s.push_back(std::move(spec));
+  return s;
 }
 
 std::unique_ptr<Approximation> corrected(const KernelRegistry& k, const Params& p,
                                          CorrectedKernelOptions o, const std::string& name) {
-  std::shared_ptr<const Kernel> w = k.create(p.text("kernel"));
+  std::shared_ptr<const Kernel> w = make_kernel(k, p);
   return std::make_unique<CorrectedKernelApproximation>(std::move(w), o, name);
 }
 
@@ -40,17 +44,17 @@ class LinearFiniteElements final : public Approximation {
 
 void register_shepard(ApproximationRegistry& r, const KernelRegistry& k) {
   r.add("shepard", "Shepard function N_J = w_J / sum w (000 eq 2.5, 001 eq 28)",
-        {kernel_param(k, "quartic-spline")}, [&k](const Params& p) {
+        with_kernel_choice(k, "quartic-spline"), [&k](const Params& p) {
           return corrected(k, p, {.basis_order = 0}, "shepard");
         });
 }
 
 void register_mls(ApproximationRegistry& r, const KernelRegistry& k) {
   r.add("mls", "moving least squares, linear or quadratic basis (EFG; 001 eqs 37-43)",
-        {kernel_param(k, "cubic-window"),
-         ParamSpec::count("basis", 1, 0, "polynomial order of the basis (0, 1, 2)"),
-         ParamSpec::choice("derivative", "exact", {"exact", "diffuse"},
-                           "exact (001 eq 43) or diffuse/DEM (004 II eq 6.5)")},
+        with_kernel_choice(k, "cubic-window",
+                           {ParamSpec::count("basis", 1, 0, "polynomial order of the basis (0, 1, 2)"),
+                            ParamSpec::choice("derivative", "exact", {"exact", "diffuse"},
+                                              "exact (001 eq 43) or diffuse/DEM (004 II eq 6.5)")}),
         [&k](const Params& p) {
           if (p.integer("basis") > 2)
             throw InputError("parameter 'basis' of approximation 'mls' must be 0, 1 or 2");
@@ -65,9 +69,9 @@ void register_rkpm_approximation(ApproximationRegistry& r, const KernelRegistry&
   r.add("rkpm",
         "reproducing kernel N_J = [C1 + C2 (x-x_J)/a] a^-1 Phi dV_J, trapezoidal moments "
         "(004 II eqs 6.1-6.2; DEM derivative eq 6.6)",
-        {kernel_param(k, "gaussian"),
-         ParamSpec::choice("derivative", "exact", {"exact", "diffuse"},
-                           "exact (004 II eq 6.2) or DEM approximation (eq 6.6)")},
+        with_kernel_choice(k, "gaussian",
+                           {ParamSpec::choice("derivative", "exact", {"exact", "diffuse"},
+                                              "exact (004 II eq 6.2) or DEM approximation (eq 6.6)")}),
         [&k](const Params& p) {
           return corrected(k, p,
                            {.basis_order = 1, .volume_weighted = true,
@@ -78,7 +82,7 @@ void register_rkpm_approximation(ApproximationRegistry& r, const KernelRegistry&
 
 void register_sph_approximation(ApproximationRegistry& r, const KernelRegistry& k) {
   r.add("sph", "SPH kernel estimate N_J = W(x - x_J) dV_J, no correction (004 II eq 2.6b)",
-        {kernel_param(k, "gaussian")}, [&k](const Params& p) {
+        with_kernel_choice(k, "gaussian"), [&k](const Params& p) {
           return corrected(k, p,
                            {.basis_order = 0, .correct = false, .volume_weighted = true,
                             .normalize_kernel = true},

@@ -267,6 +267,7 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
   Params out;
   for (const auto& spec : schema) {
     auto it = given.find(spec.name);
+    if (it == given.end() && spec.optional) continue;
     ParamValue v = it == given.end() ? spec.default_value : it->second.second;
     if (std::holds_alternative<std::vector<double>>(spec.default_value)) {
       v = list_of(spec, v, owner);
@@ -299,8 +300,11 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
                                      fmt::join(spec.choices, ", ")));
       if (!spec.choices.empty() &&
           std::find(spec.choices.begin(), spec.choices.end(), *s) == spec.choices.end())
-        throw InputError(fmt::format("parameter '{}' of {} has no value '{}'; valid: {}",
-                                     spec.name, owner, *s, fmt::join(spec.choices, ", ")));
+        // A parameter with one admissible value says why (wavelet's kernel).
+        throw InputError(fmt::format("parameter '{}' of {} has no value '{}'; valid: {}{}",
+                                     spec.name, owner, *s, fmt::join(spec.choices, ", "),
+                                     spec.choices.size() == 1 ? " (" + spec.description + ")"
+                                                              : std::string()));
     }
     out.set(spec.name, v);
   }

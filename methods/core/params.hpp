@@ -29,6 +29,9 @@ struct ParamSpec {
   bool integer = false;               ///< the number must be integral
   /// Deprecated names that still parse and resolve to `name` (old manifests keep working).
   std::vector<std::string> aliases{};
+  /// No default: absent from the resolved set unless given (a kernel parameter forwarded
+  /// by a method, which the kernel defaults itself); `default_value` gives only the kind.
+  bool optional = false;
 
   static ParamSpec number(std::string name, double def, std::string description);
   static ParamSpec positive(std::string name, double def, std::string description);

@@ -2,11 +2,13 @@
 /// nodal integration; support radius dmax·Δx.
 #include "methods/methods/register.hpp"
 
+#include "methods/kernels/kernel_choice.hpp"
+
 namespace mfv {
 
 void register_efg(MethodRegistry& r, const MethodParts& parts) {
   ParamSchema s = common_galerkin_schema(10);
-  s.push_back(ParamSpec::choice("kernel", "cubic-window", parts.kernels.keys(), "weight function"));
+  for (auto& spec : kernel_choice(parts.kernels, "cubic-window", "weight function")) s.push_back(spec);
   s.push_back(ParamSpec::positive("dmax", 2.0,
                                   "support radius over particle spacing (a = dmax dx / support of "
                                   "W); 2.0 is the EFG of the 004 comparisons (laplace-tanh, "
@@ -18,14 +20,13 @@ void register_efg(MethodRegistry& r, const MethodParts& parts) {
   r.add("efg", "element-free Galerkin: MLS shape functions (001 eqs 37-43)", s,
         [parts](const Params& p) {
           GalerkinRecipe g;
-          g.trial = parts.approximations.create("mls", forward(p, {{"kernel", "kernel"},
-                                                                   {"basis", "basis"}}));
+          g.trial = parts.approximations.create("mls", with_kernel(forward(p, {{"basis", "basis"}}), p));
           // Only Gauss cells have points per cell; nodal and stress-point rules take none.
           const std::string& integration = p.text("integration");
           g.integration = parts.integrations.create(
               integration, integration == "gauss-cells" ? forward(p, {{"quad", "n"}}) : Params{});
           g.dilation_over_spacing =
-              dilation_for_radius(*parts.kernels.create(p.text("kernel")), p.number("dmax"));
+              dilation_for_radius(*make_kernel(parts.kernels, p), p.number("dmax"));
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
           g.description = fmt::format("MLS basis {} with {} weight, dmax={}, {}, bc={}",
@@ -68,7 +69,7 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
                     integration == "nodal" ? "ni" : "ci"),
         s, [parts, integration](const Params& p) {
           GalerkinRecipe g;
-          g.trial = parts.approximations.create("mls", forward(p, {{"kernel", "kernel"}}));
+          g.trial = parts.approximations.create("mls", with_kernel({}, p));
           g.integration = parts.integrations.create(
               integration, integration == "gauss-cells"
                                ? forward(p, {{"quad", "nq"}, {"cells", "cells"}})

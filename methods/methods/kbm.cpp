@@ -6,6 +6,7 @@
 /// a = I (plain Shepard gradient); an empty support gives a zero row (particle_gradients.hpp).
 #include "methods/approximations/particle_gradients.hpp"
 #include "methods/methods/register.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 
 namespace mfv {
 
@@ -30,7 +31,7 @@ void register_kbm_variant(MethodRegistry& r, const MethodParts& parts, const std
           set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
           g.essential = essential_from(p);
           g.penalty = p.number("penalty");
-          const Params a = forward(p, {{"kernel", "kernel"}});
+          const Params a = with_kernel({}, p);
           std::shared_ptr<const Approximation> shepard = parts.approximations.create("shepard", a);
           std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
           g.build = [shepard, mls](Discretization& d, int, Retabulation* cache) {

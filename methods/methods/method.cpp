@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 #include "methods/methods/vci.hpp"
 
 namespace mfv {
@@ -167,8 +168,8 @@ std::unique_ptr<Method> vci_if_asked(const Params& p, std::unique_ptr<Method> me
 }
 
 ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice) {
-  ParamSchema s{
-      ParamSpec::choice("kernel", "cubic-spline", kernels.keys(), "kernel W (001 eq 14)"),
+  ParamSchema s = kernel_choice(kernels, "cubic-spline", "kernel W (001 eq 14)");
+  for (auto& spec : ParamSchema{
       ParamSpec::positive("dmax", 2.4,
                           "support radius over particle spacing; 2.4 for the 001 particle "
                           "methods, whose cantilever and rod-pulse baselines were measured with "
@@ -180,7 +181,8 @@ ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential
                         "variationally consistent integration (Chen, Hillman & Ruter 2013, not "
                         "in 001): one constant correction of the test gradients per particle so "
                         "the quadrature satisfies the divergence identity"),
-  };
+  })
+    s.push_back(std::move(spec));
   if (essential_choice) {
     s.push_back(ParamSpec::choice("bc", "lagrange", {"lagrange", "penalty"},
                                   "essential boundary conditions on the MLS trial functions: "
@@ -198,7 +200,7 @@ std::string support_text(const Params& p) {
 
 void set_particle_dilation(const Params& p, const KernelRegistry& kernels, double& over_spacing,
                            double& absolute) {
-  const auto W = kernels.create(p.text("kernel"));
+  const auto W = make_kernel(kernels, p);
   over_spacing = dilation_for_radius(*W, p.number("dmax"));
   if (p.number("radius") < 0)
     throw InputError(fmt::format("parameter 'radius' must be >= 0, got {}", p.number("radius")));

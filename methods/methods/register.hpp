@@ -35,12 +35,13 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
 /// derived (Gaussian): a = 2^j Δx/π, the band edge 1/a at the Nyquist wavenumber for j = 0;
 /// fit (Gaussian): a = 0.3297·2^j Δx fitted to Table 1; eq6.10: a0 = 2^j Δx √(2/π); custom:
 /// the given scale.
-double rkpm_dilation_scale(const Params& p);
+double rkpm_dilation_scale(const Params& p, double kernel_support = 1.0);
 
 /// How xefg's `support` convention scales dmax (the catalogue's reading note on 003 eq 30):
 /// the support radius is dmax·Δx ("radius"; the spline's argument is r/d_m), dmax·Δx/2
 /// ("diameter") or 2·dmax·Δx (the spline's argument is r/2h with h = dmax·Δx, "2h").
 double xefg_support_factor(const std::string& convention);
-ParamSchema rkpm_window_schema();
+/// rkpm's window parameters: the kernel (any registered one), j, rule and scale.
+ParamSchema rkpm_window_schema(const KernelRegistry& kernels);
 
 }  // namespace mfv

@@ -5,6 +5,7 @@
 /// points with an empty support get a zero row (CorrectedKernelApproximation).
 #include "methods/approximations/particle_gradients.hpp"
 #include "methods/methods/register.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 
 namespace mfv {
 
@@ -14,7 +15,7 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
   ParticleRecipe g;
   g.integration = parts.integrations.create("nodal");
   set_particle_dilation(p, parts.kernels, g.dilation_over_spacing, g.dilation);
-  const Params a = forward(p, {{"kernel", "kernel"}});
+  const Params a = with_kernel({}, p);
   std::shared_ptr<const Approximation> sph = parts.approximations.create("sph", a);
   std::shared_ptr<const Approximation> mls = parts.approximations.create("mls", a);
   g.build = [sph, mls, tables](Discretization& d, int, Retabulation* cache) {
@@ -64,14 +65,14 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
         });
 
   ParamSchema s = common_galerkin_schema(10);
-  s.push_back(ParamSpec::choice("kernel", "gaussian", parts.kernels.keys(), "kernel W"));
+  for (auto& spec : kernel_choice(parts.kernels, "gaussian", "kernel W")) s.push_back(spec);
   s.push_back(ParamSpec::positive("h", 1 / (0.5 * std::sqrt(M_PI)),
                                   "dilation over spacing, a = h dx (004 II Fig. 3 uses "
                                   "sigma = dx/(0.1 sqrt(pi)) and dx/(0.5 sqrt(pi)))"));
   r.add("sph-galerkin", "Galerkin with the plain SPH kernel estimate (no correction, 004 II Fig. 3)",
         s, [parts](const Params& p) {
           GalerkinRecipe g;
-          g.trial = parts.approximations.create("sph", forward(p, {{"kernel", "kernel"}}));
+          g.trial = parts.approximations.create("sph", with_kernel({}, p));
           g.integration = parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
           g.dilation_over_spacing = p.number("h");
           g.essential = essential_from(p);

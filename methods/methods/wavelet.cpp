@@ -20,8 +20,15 @@ ParamSpec wavelet_bands_spec() {
 
 void register_wavelet(MethodRegistry& r, const MethodParts& parts) {
   ParamSchema s = common_galerkin_schema(10);
-  for (auto& spec : rkpm_window_schema())
-    if (spec.name != "kernel") s.push_back(spec);
+  // The kernel is declared with its one value so that kernel=<another> says why (rather than
+  // "unknown parameter"): the family is built on the Gaussian.
+  s.push_back(ParamSpec::choice(
+      "kernel", "gaussian", {"gaussian"},
+      "the Gaussian only: the low band is its RK window and the wavelet bands are built from "
+      "it (Mexican hats, its second derivative; 004 I §6), so no other kernel makes this "
+      "family"));
+  for (auto& spec : rkpm_window_schema(parts.kernels))
+    if (spec.name != "kernel" && !spec.name.starts_with("kernel-")) s.push_back(spec);
   s.push_back(wavelet_bands_spec());
   s.push_back(ParamSpec::positive("wscale", 1.0, "first wavelet dilation over dx"));
   r.add("wavelet", "multi-scale RKPM: Gaussian RK low band plus M Mexican-hat wavelet bands", s,

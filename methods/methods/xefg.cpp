@@ -7,6 +7,7 @@
 #include "methods/approximations/enriched.hpp"
 #include "methods/core/errors.hpp"
 #include "methods/methods/register.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 
 namespace mfv {
 
@@ -47,7 +48,7 @@ class XefgMethod final : public Method {
 
 void register_xefg(MethodRegistry& r, const MethodParts& parts) {
   ParamSchema s = common_galerkin_schema(4);
-  s.push_back(ParamSpec::choice("kernel", "cubic-spline", parts.kernels.keys(), "weight function"));
+  for (auto& spec : kernel_choice(parts.kernels, "cubic-spline", "weight function")) s.push_back(spec);
   s.push_back(ParamSpec::positive("dmax", 2.3, "support size over particle spacing (003 DMAX)"));
   s.push_back(ParamSpec::count("basis", 1, 0, "MLS basis order (0, 1, 2)"));
   s.push_back(ParamSpec::choice("support", "radius", {"radius", "diameter", "2h"},
@@ -70,8 +71,8 @@ void register_xefg(MethodRegistry& r, const MethodParts& parts) {
             throw InputError("parameter 'basis' of method 'xefg' must be 0, 1 or 2");
           GalerkinRecipe g;
           std::shared_ptr<const Approximation> mls = parts.approximations.create(
-              "mls", forward(p, {{"kernel", "kernel"}, {"basis", "basis"}}));
-          const auto W = parts.kernels.create(p.text("kernel"));
+              "mls", with_kernel(forward(p, {{"basis", "basis"}}), p));
+          const auto W = make_kernel(parts.kernels, p);
           const double support = W->support();
           std::shared_ptr<const IntegrationScheme> cells =
               parts.integrations.create("gauss-cells", forward(p, {{"quad", "n"}}));
