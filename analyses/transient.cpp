@@ -125,7 +125,8 @@ StepChoice choose_step(const ExplicitDynamics& sim, const Params& p) {
 
 void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
                    const TransientDefinition& plan, const std::vector<double>& checkpoints,
-                   const Params& dynamics, TransientMeasures& m, CaseResult& r) {
+                   const Params& dynamics, TransientMeasures& m, CaseResult& r,
+                   TransientOutcome* outcome) {
   const std::string& label = plan.label;
   if (!(plan.end_time > 0)) throw InputError("a transient run needs a positive end time");
   const double unit = checkpoints.empty() ? plan.end_time : checkpoints.front();
@@ -263,6 +264,10 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
     if (plan.unstable && !td.instability)
       if (std::string why = plan.unstable(sim.state()); !why.empty())
         mark_unstable(s, std::move(why));
+    if (plan.trace && outcome) {
+      outcome->trace_time.push_back(sim.time());
+      outcome->trace.push_back(plan.trace(sim.state()));
+    }
     if (plan.stop && plan.stop(sim.state())) break;
   }
   bar.finish();
@@ -338,8 +343,9 @@ class TransientAnalysis final : public Analysis {
     td.time_unit = def.time_unit;
     td.unit_system = def.unit_system;
     TransientMeasures m;
+    TransientOutcome out;
     try {
-      run_transient(sim, step.target, step.critical, def, checkpoints, p_, m, r);
+      run_transient(sim, step.target, step.critical, def, checkpoints, p_, m, r, &out);
     } catch (const SingularError& e) {
       // An Eulerian kernel whose particles have crossed (a support left with one particle):
       // the instability has destroyed the particle arrangement.
@@ -351,7 +357,6 @@ class TransientAnalysis final : public Analysis {
             fmt::format("the particle arrangement collapsed ({})", e.what())};
     }
     if (!def.notes.empty()) td.dynamics += "; " + def.notes;
-    TransientOutcome out;
     out.dt = td.dt;
     out.dt_critical = step.critical;
     out.steps = td.steps;

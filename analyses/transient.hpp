@@ -53,10 +53,12 @@ inline constexpr long kMinDriftSteps = 20;
 /// kEnergyBound · E_in; the checkpoints after it are not reached (their values stay NaN).
 /// def.unstable may mark the run unstable without stopping it. The problem's callbacks read
 /// sim.state(): a distributed engine gathers its fields for them (at every step only when the
-/// problem sets `unstable` or `stop`).
+/// problem sets `unstable`, `stop` or `trace`). def.trace's values after every step go to
+/// outcome->trace (when `outcome` is given).
 void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
                    const TransientDefinition& def, const std::vector<double>& checkpoints,
-                   const Params& dynamics, TransientMeasures& m, CaseResult& r);
+                   const Params& dynamics, TransientMeasures& m, CaseResult& r,
+                   TransientOutcome* outcome = nullptr);
 
 /// The critical step and the step the parameters ask for (dt, or safety × critical).
 struct StepChoice {

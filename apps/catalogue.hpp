@@ -3,6 +3,7 @@
 /// construction, plus out-of-tree plugins.
 #pragma once
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "analyses/analysis.hpp"
@@ -20,11 +21,13 @@ struct Extensions {
   std::vector<std::function<void(MethodRegistry&, const MethodParts&)>> methods;
   std::vector<std::function<void(ProblemRegistry&)>> problems;
   std::vector<std::function<void(AnalysisRegistry&)>> analyses;
+  /// Where the hooks came from (the plugin libraries, apps/plugins.hpp), for provenance.
+  std::vector<std::string> sources;
 };
 
 class Catalogue : public Registries {
  public:
-  explicit Catalogue(const Extensions& extra = {}) {
+  explicit Catalogue(const Extensions& extra = {}) : plugins(extra.sources) {
     register_all_kernels(kernels);
     for (const auto& f : extra.kernels) f(kernels);
     register_all_approximations(approximations, kernels);
@@ -38,6 +41,8 @@ class Catalogue : public Registries {
     register_all_analyses(analyses);
     for (const auto& f : extra.analyses) f(analyses);
   }
+  /// The plugin libraries whose registrations this catalogue holds (reports name them).
+  const std::vector<std::string> plugins;
 };
 
 }  // namespace mfv

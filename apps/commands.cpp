@@ -276,8 +276,8 @@ bool written_by_manifest_ctest(const std::string& head) {
 }
 bool is_vtk_xml(const std::string& head) { return head.find("<VTKFile") != std::string::npos; }
 
-RunInfo run_info(const std::string& kind, double wall, double cpu) {
-  return RunInfo{kind, utc_now(kReportTime), cores(), wall, cpu};
+RunInfo run_info(const Catalogue& c, const std::string& kind, double wall, double cpu) {
+  return RunInfo{kind, utc_now(kReportTime), cores(), wall, cpu, c.plugins};
 }
 
 StudyProgress progress_printer(std::ostream& progress, const std::string& prefix) {
@@ -425,7 +425,7 @@ int command_analyse(const Catalogue& c, const AnalyseOptions& o, std::ostream& o
   }
   if (!staged) return status;
   const double wall = wall_seconds() - wall0, cpu = cpu_seconds() - cpu0;
-  const std::string results = results_json(c, run_info("analysis", wall, cpu), {study}, {});
+  const std::string results = results_json(c, run_info(c, "analysis", wall, cpu), {study}, {});
   std::vector<ReportSection> sections;
   add_to_sections(c, sections, std::move(study));
   write_report(c, *staged,
@@ -585,7 +585,7 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
     sections.front().failures = failures;
     const double wall = wall_seconds() - w0, cpu = cpu_seconds() - c0;
     const std::string results =
-        results_json(c, run_info(specs.size() == 1 ? "study" : "compare", wall, cpu), done,
+        results_json(c, run_info(c, specs.size() == 1 ? "study" : "compare", wall, cpu), done,
                      failures);
     std::string head = fmt::format("# mfv comparison: {}\n\n{}\n\nMachine-readable: "
                                    "[results.json](results.json).\n\n",
@@ -940,7 +940,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     out << fmt::format("Ledger ({}): {}\n", ledger->path.string(), verdict_counts_line(entries));
   }
   const std::string results_text =
-      verify_results_json(c, run_info("verify", wall, cpu), manifest.name, o.manifest, o.full,
+      verify_results_json(c, run_info(c, "verify", wall, cpu), manifest.name, o.manifest, o.full,
                           case_json, ledger ? &*ledger : nullptr, entries);
 
   // The history: this run appended, then the slow drifts over the last runs (each step
@@ -1062,7 +1062,9 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       if (changes_md.empty()) changes_md = "## Changes since the last run\n\n";
       changes_md += h;
     }
-    summary_table.add_row({"machine", fmt::format("{} cores", cores())});
+    summary_table.add_row({"machine", machine});
+    if (!c.plugins.empty())
+      summary_table.add_row({"plugins", fmt::format("`{}`", fmt::join(c.plugins, "`, `"))});
     summary_table.add_row({"time", fmt::format("wall {}, CPU {} (finished {})", fmt_seconds(wall),
                                                fmt_seconds(cpu), utc_now(kReportTime))});
     summary_table.add_row({"manifest", fmt::format("`{}`{}", o.manifest,

@@ -99,6 +99,7 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
     append(extensions_.problems, mine.problems, name);
     append(extensions_.analyses, mine.analyses, name);
     loaded_.push_back(resolved);
+    extensions_.sources.push_back(resolved);
   }
 }
 

@@ -153,50 +153,49 @@ class OscillatingPlate final : public TransientProblem {
     def.probes = [tip](const ExplicitDynamics& s) {
       return std::vector<double>{s.particle_displacement()(1, tip), s.particle_velocity()(1, tip)};
     };
-    // The crossings of the tip displacement through zero, interpolated linearly in time,
-    // with hysteresis: a crossing counts when the tip next reaches a quarter of its peak on
-    // the other side, so a ripple of higher modes about zero is not read as a half period.
-    struct Track {
+    // The tip's displacement after every step, for the period (finish).
+    def.trace_names = {"tip u_y"};
+    def.trace = [tip](const ExplicitDynamics& s) {
+      return std::vector<double>{s.particle_displacement()(1, tip)};
+    };
+    def.finish = [T, this](const ExplicitDynamics&, const TransientOutcome& out,
+                           TransientMeasures& m) {
+      // The crossings of the tip displacement through zero, interpolated linearly in time,
+      // with hysteresis: a crossing counts when the tip next reaches a quarter of its peak on
+      // the other side, so a ripple of higher modes about zero is not read as a half period.
       double t_prev = 0, u_prev = 0, peak = 0, last_zero = 0;
       int side = 0;
       std::vector<double> crossings;
-    };
-    auto track = std::make_shared<Track>();
-    def.stop = [track, tip](const ExplicitDynamics& s) {
-      const double u = s.particle_displacement()(1, tip), t = s.time();
-      if (std::isfinite(u)) {
-        track->peak = std::max(track->peak, std::abs(u));
-        if (u * track->u_prev < 0)
-          track->last_zero =
-              track->t_prev + (t - track->t_prev) * track->u_prev / (track->u_prev - u);
-        const int side = u > 0.25 * track->peak ? 1 : u < -0.25 * track->peak ? -1 : 0;
-        if (side != 0 && side != track->side) {
-          if (track->side != 0) track->crossings.push_back(track->last_zero);
-          track->side = side;
+      for (std::size_t k = 0; k < out.trace.size(); ++k) {
+        const double u = out.trace[k][0], t = out.trace_time[k];
+        if (std::isfinite(u)) {
+          peak = std::max(peak, std::abs(u));
+          if (u * u_prev < 0) last_zero = t_prev + (t - t_prev) * u_prev / (u_prev - u);
+          const int now = u > 0.25 * peak ? 1 : u < -0.25 * peak ? -1 : 0;
+          if (now != 0 && now != side) {
+            if (side != 0) crossings.push_back(last_zero);
+            side = now;
+          }
         }
+        t_prev = t;
+        u_prev = u;
       }
-      track->t_prev = t;
-      track->u_prev = u;
-      return false;
-    };
-    def.finish = [track, T, this](const ExplicitDynamics&, const TransientOutcome& out,
-                                  TransientMeasures& m) {
       // A stable run that did not cross zero twice measured no period: a failure with its
       // reason, never a pass with the period left blank.
-      if (!out.unstable && track->crossings.size() < 2)
+      if (!out.unstable && crossings.size() < 2)
         throw std::runtime_error(fmt::format(
             "oscillating-plate: the tip crossed zero {} time(s) in {:g} thin-plate periods; a "
             "period needs two crossings, so the plate did not oscillate in its first mode within "
             "the run (its period is above {:.3g} of the thin-plate one; raise periods)",
-            track->crossings.size(), out.steps * out.dt / T, out.steps * out.dt / T));
-      const double period = out.unstable ? NAN : period_from_crossings(track->crossings);
+            crossings.size(), out.steps * out.dt / T, out.steps * out.dt / T));
+      const double period = out.unstable ? NAN : period_from_crossings(crossings);
       m.headline["period (s)"] = period;
       m.headline["thin-plate period (s)"] = T;
       m.headline[kPeriodRatio] = period / T;
       m.headline["tip amplitude / thin-plate amplitude"] =
-          track->peak / (vf_ * std::sqrt(bulk_modulus() / kDensity) *
+          peak / (vf_ * std::sqrt(bulk_modulus() / kDensity) *
                          std::abs(mode_shape(kLength)) / thin_plate_omega());
-      m.headline["zero crossings"] = static_cast<double>(track->crossings.size());
+      m.headline["zero crossings"] = static_cast<double>(crossings.size());
     };
     return def;
   }

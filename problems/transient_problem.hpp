@@ -34,6 +34,10 @@ struct TransientOutcome {
   double unstable_time = 0;    ///< when the instability was detected (unstable runs)
   double cpu_seconds = 0;      ///< set-up, engine and time loop
   double cpu_loop = 0;         ///< the time loop alone (cpu_seconds includes it)
+  /// TransientDefinition::trace after every step, with the times: the history a closing
+  /// measurement over the run reads (empty when the definition traces nothing).
+  std::vector<double> trace_time;
+  std::vector<std::vector<double>> trace;  ///< a row per step, in trace_names' order
 };
 
 /// What define() gets besides the discretization: the materials to build the problem's
@@ -81,12 +85,19 @@ struct TransientDefinition {
   std::function<void(const ExplicitDynamics&,
                      std::vector<std::pair<std::string, Eigen::MatrixXd>>&)>
       frame_data;
+  /// What finish() measures over the whole run (a period from zero crossings, an onset
+  /// time): names and the values at the state, recorded after every step into
+  /// TransientOutcome::trace, so no state is shared between callbacks. Every step: keep it
+  /// to a few numbers (probes, by contrast, are the `samples` rows of the report's history).
+  std::vector<std::string> trace_names;
+  std::function<std::vector<double>(const ExplicitDynamics&)> trace;
   /// Called after every step; true stops the run (a detector that has seen enough).
   std::function<bool(const ExplicitDynamics&)> stop;
   /// The problem's own instability criterion, after every step: the first non-empty reason
   /// marks the run unstable at that step; the run goes on until `stop` or the generic bound.
   std::function<std::string(const ExplicitDynamics&)> unstable;
-  /// After the run, stable or not: the problem's closing measurements.
+  /// After the run, stable or not: the problem's closing measurements, with the run's
+  /// outcome and its trace.
   std::function<void(const ExplicitDynamics&, const TransientOutcome&, TransientMeasures&)>
       finish;
 };

@@ -3,8 +3,8 @@
 /// volumes' sum with the domain's measure (what every quadrature and lumped mass relies on).
 /// It applies to any problem on particles (ParticleProblem) that declares it, has its own
 /// parameter schema (a tolerance), its own result type, its own page and its own verdict. In-
-/// tree, add `register_volume_check(r);` to register_all_analyses (analyses/analysis.hpp);
-/// the tests pass it as an extension.
+/// tree, the file goes in analyses/ and `X(volume_check)` in MFV_ANALYSES of
+/// analyses/register_all.cpp; the tests pass it as an extension.
 #include <cmath>
 
 #include <fmt/format.h>

@@ -4,9 +4,9 @@
 /// cos(πct/L). The problem only defines: particles, material, masses, supports, the initial
 /// velocity, the end time, a checkpoint and what is measured there. The `transient` analysis
 /// builds the engine, picks the step, runs the loop and reports it. It also declares the
-/// example analysis `volume-check` (tests/example_analysis.cpp). In-tree, add
-/// `register_standing_wave(r);` to register_all_problems (problems/register.hpp); the tests
-/// pass it as an extension.
+/// example analysis `volume-check` (tests/example_analysis.cpp). In-tree, the file goes
+/// in problems/ and `X(standing_wave)` in MFV_PROBLEMS of problems/register_all.cpp; the
+/// tests pass it as an extension.
 #include <cmath>
 #include <numbers>
 

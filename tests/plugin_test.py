@@ -5,6 +5,7 @@ must refuse exits 2 naming the file and the cause. Usage (tests/CMakeLists.txt):
   plugin_test.py --mfv MFV --example LIB --bad STALE CLASH UNDEFINED NO_ENTRY THROWS --work DIR
 """
 import argparse
+import json
 import os
 import shutil
 import subprocess
@@ -72,6 +73,10 @@ def main():
     index = os.path.join(report, "index.md")
     check("the report has an index naming the problem",
           os.path.isfile(index) and "sine-bar" in open(index, encoding="utf-8").read())
+    results = os.path.join(report, "results.json")
+    plugins = json.load(open(results))["run"]["plugins"] if os.path.isfile(results) else []
+    check("results.json names the plugin it ran with",
+          [os.path.basename(p) for p in plugins] == [os.path.basename(ex)], f"plugins: {plugins}")
 
     # 3. A manifest's [suite] plugins, relative to the manifest.
     suite = os.path.join(a.work, "suite")
@@ -85,6 +90,9 @@ def main():
     expect(mfv, "verify loads [suite] plugins and judges the case",
            ["verify", os.path.join(suite, "plugin.toml"), "-r", os.path.join(a.work, "runs")],
            0, [], "stdout")
+    runs_index = os.path.join(a.work, "runs", "index.md")
+    check("the verify report's summary names the plugin",
+          os.path.isfile(runs_index) and "libexample.so" in open(runs_index, encoding="utf-8").read())
     with open(os.path.join(suite, "missing.toml"), "w") as f:
         f.write('[suite]\nname = "missing"\nplugins = ["libnothere.so"]\n\n'
                 '[[case]]\nid = "x"\nproblem = "sine-bar"\nmethod = "efg"\nnodes = [11, 21]\n')

@@ -12,6 +12,10 @@
 //   ledger = "ledger.toml"                    # relative to the manifest's directory: the
 //                                             # reproduction ledger (verify/ledger.hpp) whose
 //                                             # verdicts open the report; omitted: none
+//   plugins = ["lib/libmine.so"]              # plugin libraries (apps/plugin.hpp) loaded
+//                                             # before the catalogue is built, relative to the
+//                                             # manifest's directory: their kernels, methods,
+//                                             # problems and analyses are names in the cases
 //
 //   [[case]]                                  # one per case, at least one
 //   id = "laplace-tanh/fem"                   # required, unique, no white space (a CTest name)

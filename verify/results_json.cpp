@@ -202,6 +202,8 @@ json run_json(const RunInfo& run) {
           {"machine", {{"cores", run.cores}}},
           {"wall_seconds", run.wall_seconds},
           {"cpu_seconds", run.cpu_seconds},
+          // Plugin libraries whose kernels, methods or problems the run could use.
+          {"plugins", run.plugins},
           // What built the numbers and where they ran: two runs' numbers are comparable only
           // when these say so (issue 28).
           {"provenance", provenance_json(provenance())}};

@@ -37,6 +37,7 @@ struct RunInfo {
   std::string generated_utc;
   unsigned cores = 1;
   double wall_seconds = 0, cpu_seconds = 0;
+  std::vector<std::string> plugins;  ///< plugin libraries loaded (apps/plugins.hpp)
 };
 
 /// A headline's stable identifier: its name in lower-case ASCII words joined by '_' (Greek
