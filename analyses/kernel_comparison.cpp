@@ -131,8 +131,7 @@ std::vector<KernelComparison> kernel_comparisons(const std::vector<ReportSection
   return out;
 }
 
-std::string kernel_comparison_page(const std::vector<ReportSection>& sections) {
-  const std::vector<KernelComparison> all = kernel_comparisons(sections);
+std::string kernel_comparison_page(const std::vector<KernelComparison>& all) {
   if (all.empty()) return "";
   std::string md =
       "# Kernels compared\n\n[Back to the report](index.md)\n\n"

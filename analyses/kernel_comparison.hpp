@@ -21,7 +21,8 @@ struct KernelComparison {
 /// Every comparison the sections hold, in section order.
 std::vector<KernelComparison> kernel_comparisons(const std::vector<ReportSection>& sections);
 
-/// The page: an explanation, then each comparison's table; empty when there is none.
-std::string kernel_comparison_page(const std::vector<ReportSection>& sections);
+/// The page of `comparisons` (kernel_comparisons): an explanation, then each table; empty
+/// when there is none.
+std::string kernel_comparison_page(const std::vector<KernelComparison>& comparisons);
 
 }  // namespace mfv

@@ -249,11 +249,11 @@ void write_report(const Catalogue& c, StagedDirectory& staged, const std::string
     md.replace(marker, std::string(kProblemsToc).size(), toc);
   md += write_convergence_tables(staged.path(), sections);
   // The same problem and method under different kernels, side by side (issue 29).
-  if (const std::string kernels = kernel_comparison_page(sections); !kernels.empty()) {
-    write_file_atomic(staged.path() / "kernels.md", kernels);
+  if (const auto comparisons = kernel_comparisons(sections); !comparisons.empty()) {
+    write_file_atomic(staged.path() / "kernels.md", kernel_comparison_page(comparisons));
     md += fmt::format("**Kernels compared**: [kernels.md](kernels.md), {} table(s) of the same "
                       "problem and method under different kernels.\n\n",
-                      kernel_comparisons(sections).size());
+                      comparisons.size());
   }
   md += body;
   for (const auto& [name, content] : files) write_file_atomic(staged.path() / name, content);

@@ -550,7 +550,7 @@ TEST(KernelComparison, StudiesDifferingOnlyInTheKernelSideBySideBestFirst) {
   EXPECT_EQ(t.rows[0][2], "0.05");
   EXPECT_EQ(t.rows[1][0], "cubic-spline");
   EXPECT_EQ(t.rows[1][2], "0.1");
-  EXPECT_NE(kernel_comparison_page({sec}).find("## p: sph"), std::string::npos);
+  EXPECT_NE(kernel_comparison_page(all).find("## p: sph"), std::string::npos);
 }
 
 TEST(KernelComparison, NoErrorNoErrorColumnAndNothingToCompareNoPage) {
@@ -564,7 +564,7 @@ TEST(KernelComparison, NoErrorNoErrorColumnAndNothingToCompareNoPage) {
             (std::vector<std::string>{"kernel", "support (dmax)", "energy drift", "CPU s"}));
   sec.studies.pop_back();
   EXPECT_TRUE(kernel_comparisons({sec}).empty());
-  EXPECT_EQ(kernel_comparison_page({sec}), "");
+  EXPECT_EQ(kernel_comparison_page(kernel_comparisons({sec})), "");
 }
 
 }  // namespace
