@@ -82,8 +82,8 @@ std::string write_analysis_section(const Registries& catalogue, const ReportSect
   page.verdicts += t.str() + "\n";
 
   // Figures and data of every case.
-  fs::create_directories(dir / "plots");
-  fs::create_directories(dir / "data");
+  make_report_subdir(dir, "plots");
+  make_report_subdir(dir, "data");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
     if (r.data<FigureData>().figures.empty() && r.data<FigureData>().tables.empty()) continue;

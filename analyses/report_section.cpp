@@ -222,7 +222,7 @@ std::string write_vtk_collections(const std::filesystem::path& dir, const std::s
   std::string md;
   for (const auto& s : studies) {
     const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
-    std::filesystem::create_directories(dir / sub);
+    make_report_subdir(dir, sub);
     std::vector<std::pair<double, std::string>> entries;
     for (std::size_t k = finest_only && !s.cases.empty() ? s.cases.size() - 1 : 0;
          k < s.cases.size(); ++k)
@@ -438,8 +438,8 @@ std::string section_page(const Registries& plugins, const Problem& problem,
   page.published = published_block(problem, section.studies, defaults, section.problem);
   // The paper tables as files: tables/<problem>/paper-<source>.csv and .tex.
   for (const auto& t : paper_tables(problem, section.studies, defaults)) {
-    const std::filesystem::path sub = dir / "tables" / slug(section.problem);
-    std::filesystem::create_directories(sub);
+    const std::filesystem::path sub =
+        make_report_subdir(dir, std::filesystem::path("tables") / slug(section.problem));
     write_file_atomic(sub / (paper_table_stem(t.source) + ".csv"), t.table.csv());
     write_file_atomic(sub / (paper_table_stem(t.source) + ".tex"), t.table.tex());
   }
@@ -465,7 +465,7 @@ std::string page_lead(const Problem& problem) {
 
 std::string plot_image(const std::filesystem::path& dir, const std::string& name,
                        const PlotSpec& spec, const std::string& alt, const std::string& what) {
-  std::filesystem::create_directories((dir / name).parent_path());
+  make_report_subdir(dir, std::filesystem::path(name).parent_path());
   const std::vector<PlotSpec> parts = split_plot(spec);
   std::string md;
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -828,7 +828,7 @@ std::string write_problem_section(const Registries& catalogue, const ReportSecti
   const Params defaults = resolved_case_params(catalogue, section.problem, Params{}, analysis_name);
   const std::string title = section_title(section);
   const std::string page = analysis->page(catalogue, section, title, dir, vtk);
-  std::filesystem::create_directories(dir / kPagesDir);
+  make_report_subdir(dir, kPagesDir);
   const std::filesystem::path path = page_path(dir, title);
   write_file_atomic(path, page);
   const std::string link = fmt::format("{}/{}", kPagesDir, path.filename().string());

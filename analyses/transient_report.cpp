@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "reports/atomic.hpp"
 #include "analyses/transient.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
@@ -320,12 +321,12 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
   }
 
   // Time histories of the finest case of each study: CSV and plots.
-  fs::create_directories(dir / "plots");
+  make_report_subdir(dir, "plots");
   page.plots += studies_plots;
   page.plots +=
       "### Time histories\n\nEnergy balance and probes of the finest case of each "
       "study (CSV beside the plots).\n\n";
-  fs::create_directories(dir / "histories");
+  make_report_subdir(dir, "histories");
   for (const auto& s : section.studies) {
     const CaseResult& r = s.cases.back();
     if (r.data<TransientData>().history.empty()) continue;
@@ -370,7 +371,7 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
         if (r.data<TransientData>().frames.empty()) continue;
         if (section.vtk_finest_only && &r != &s.cases.back()) continue;
         const std::string sub = fmt::format("vtk/{}/{}", base, slug(s.label));
-        VtuSeriesWriter w(dir / sub, fmt::format("n{}", r.spec.nodes));
+        VtuSeriesWriter w(make_report_subdir(dir, sub), fmt::format("n{}", r.spec.nodes));
         for (const auto& f : r.data<TransientData>().frames) {
           ParticleFrame pf;
           pf.time = f.time;

@@ -213,8 +213,8 @@ std::string write_convergence_tables(const std::filesystem::path& dir,
       t.set_format("particles", [](double v) { return fmt::format("{:.0f}", v); });
       t.evaluate_all_rates();
       const std::filesystem::path sub =
-          dir / "tables" / slug(section.problem) / slug(s.label.empty() ? "study" : s.label);
-      std::filesystem::create_directories(sub.parent_path());
+          make_report_subdir(dir, std::filesystem::path("tables") / slug(section.problem)) /
+          slug(s.label.empty() ? "study" : s.label);
       write_file_atomic(sub.string() + ".csv", t.csv());
       write_file_atomic(sub.string() + ".tex", t.tex());
       ++written;

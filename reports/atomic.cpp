@@ -211,6 +211,26 @@ void remove_marked_last(const fs::path& dir) {
   fs::remove_all(dir, ignored);
 }
 
+/// An unmarked directory a dead run may have left: nothing in it but empty directories and
+/// markers' temporary files (a run killed while marking it, or a page creating its
+/// sub-directory in the moment between the signal thread's clean-up and the process's end).
+/// Removing it loses no file; anything else in it keeps it.
+bool only_empty_dirs_and_marker_temps(const fs::path& dir) {
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const auto type = it->symlink_status(ec).type();
+    if (ec) return false;
+    if (type == fs::file_type::directory) {
+      if (!only_empty_dirs_and_marker_temps(it->path())) return false;
+    } else if (type != fs::file_type::regular ||
+               !is_marker_temp(it->path().filename().string())) {
+      return false;
+    }
+  }
+  return !ec;
+}
+
 }  // namespace
 
 std::optional<ReportMarker> read_report_marker(const fs::path& dir) {
@@ -386,18 +406,9 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
           remove_marked_last(e.path());
           continue;
         }
-        // Unmarked: ours only if it holds nothing but a marker's temporary file (a run killed
-        // while marking it) or nothing at all. Those files go one by one and the directory
-        // only if it is then empty, so nothing else is ever removed.
-        std::vector<fs::path> temps;
-        bool only_temps = true;
-        for (const auto& f : fs::directory_iterator(e.path(), ignored)) {
-          if (is_marker_temp(f.path().filename().string())) temps.push_back(f.path());
-          else only_temps = false;
-        }
-        if (ignored || !only_temps) continue;
-        for (const auto& f : temps) fs::remove(f, ignored);
-        fs::remove(e.path(), ignored);
+        // Unmarked: ours only if it holds nothing but markers' temporary files and empty
+        // directories; then nothing but those is removed (remove_all of a tree with no file).
+        if (only_empty_dirs_and_marker_temps(e.path())) fs::remove_all(e.path(), ignored);
       }
     }
   } catch (const fs::filesystem_error&) {
@@ -514,6 +525,24 @@ void StagedDirectory::commit() {
   committed_ = true;
 }
 
+fs::path make_report_subdir(const fs::path& root, const fs::path& rel) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(root, ec)))
+    throw std::runtime_error(fmt::format(
+        "cannot create '{}' in the report directory '{}': it is not a directory (a run being "
+        "stopped removes its staging directory)", rel.string(), root.string()));
+  fs::path path = root;
+  for (const auto& part : rel) {
+    if (part.empty() || part == ".") continue;
+    path /= part;
+    fs::create_directory(path, ec);
+    if (ec)
+      throw std::runtime_error(
+          fmt::format("cannot create the directory '{}': {}", path.string(), ec.message()));
+  }
+  return path;
+}
+
 void install_staging_cleanup() {
   sigset_t set;
   sigemptyset(&set);
@@ -527,7 +556,14 @@ void install_staging_cleanup() {
     {
       auto& reg = StagingRegistry::get();
       std::lock_guard<std::mutex> hold(reg.mutex);
-      for (const auto& dir : reg.live) remove_marked_last(dir);
+      // A page may create a sub-directory between the listing and the final rmdir (the
+      // computing thread runs on); the staging directory itself is never re-created
+      // (make_report_subdir), so a few passes leave nothing.
+      for (const auto& dir : reg.live) {
+        std::error_code ec;
+        for (int pass = 0; pass < 20 && fs::exists(fs::symlink_status(dir, ec)); ++pass)
+          remove_marked_last(dir);
+      }
       for (const auto& lock : reg.locks) ::unlink(lock.c_str());
       reg.live.clear();
       reg.locks.clear();

@@ -13,6 +13,15 @@ namespace mfv {
 /// On failure the temporary file is removed and std::runtime_error names the path and cause.
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);
 
+/// Creates `root / rel` and every directory between them, but never `root` itself, and
+/// returns `root / rel`. Report pages use it for their sub-directories: the report is written
+/// into a staging directory that the signal handler removes while the computing thread may
+/// still be writing; std::filesystem::create_directories would bring the staging directory
+/// back, unmarked, for no later run to remove. Throws std::runtime_error when `root` is not
+/// a directory or a component cannot be created.
+std::filesystem::path make_report_subdir(const std::filesystem::path& root,
+                                         const std::filesystem::path& rel);
+
 /// A uniquely named temporary file next to `target` (`<target>.<tag>-<pid>-<n>`), created
 /// empty and exclusively, for writers that insist on a file name of their own (VTK,
 /// gnuplot). commit() renames it over `target`; otherwise the destructor removes it.

@@ -164,6 +164,11 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   // A marker's temporary name beside a file of the user's does not make the directory ours.
   test::write_text(dir.path() / ".run.staging-999993" / (std::string(kStagingMarker) + ".tmp-1-0"), "");
   test::write_text(dir.path() / ".run.staging-999993" / "data.csv", "a user's file");
+  // Killed in the moment after its signal thread's clean-up, while a page created its
+  // sub-directory (the CI failure of 2026-12-05): unmarked, holding only empty directories.
+  fs::create_directories(dir.path() / ".run.staging-999991" / "plots" / "part");
+  // The same with a file in it is not ours to remove.
+  test::write_text(dir.path() / ".run.staging-999990" / "plots" / "a.svg", "a user's plot");
   // A file that only bears a marker's name, not its content, is not a marker.
   test::write_text(dir.path() / ".run.staging-999992" / kReportMarker, "a user's notes");
   // Issue 26: names that only look like ours stay — no marker, or a live pid (1 is init).
@@ -175,7 +180,7 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   write_report(target, "new");
   EXPECT_EQ(names_in(dir.path()),
             (std::vector<std::string>{".other.staging-999997", ".run.staging-1",
-                                      ".run.staging-999992", ".run.staging-999993",
+                                      ".run.staging-999990", ".run.staging-999992", ".run.staging-999993",
                                       ".run.staging-999995",
                                       ".run.staging-notes", "run"}));
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999993" / "data.csv"), "a user's file");
@@ -183,6 +188,24 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999995" / "thesis.tex"), "a user's directory");
   // The staging marker never reaches the report.
   EXPECT_FALSE(fs::exists(target / kStagingMarker));
+}
+
+TEST(ReportTarget, PagesNeverRecreateARemovedStagingDirectory) {
+  TempDir dir;
+  const auto root = dir.path() / "staging";
+  fs::create_directory(root);
+  EXPECT_EQ(make_report_subdir(root, "tables/cantilever"), root / "tables" / "cantilever");
+  EXPECT_TRUE(fs::is_directory(root / "tables" / "cantilever"));
+  EXPECT_EQ(make_report_subdir(root, "tables/cantilever"), root / "tables" / "cantilever");
+  // The signal thread removed the staging directory: a page's sub-directory fails instead of
+  // bringing it back unmarked.
+  fs::remove_all(root);
+  EXPECT_THROW(make_report_subdir(root, "plots"), std::runtime_error);
+  EXPECT_FALSE(fs::exists(root));
+  // A file where a directory belongs is an error, not silently kept.
+  fs::create_directory(root);
+  test::write_text(root / "plots", "a file");
+  EXPECT_THROW(make_report_subdir(root, "plots/x"), std::runtime_error);
 }
 
 TEST(ReportTarget, AZombiesStagingIsCleaned) {
