@@ -131,6 +131,17 @@ struct TransientData : AnalysisResult {
     std::string reason;  ///< "kinetic energy 3.1e+12 above 1e4 × the energy put in (…)"
   };
   std::optional<Instability> instability;
+  /// A run by an external solver (issue 30, dynamics/external_solver.hpp), replayed through
+  /// the problem's measurements: which solver, its command line, its wall and CPU seconds
+  /// (children's rusage), the frames read back, and the tails of its stdout and stderr that
+  /// the report keeps. Absent: mfv's own engine ran.
+  struct External {
+    std::string solver, command;
+    double wall_seconds = 0, cpu_seconds = 0;
+    int frames = 0;
+    std::string stdout_tail, stderr_tail;
+  };
+  std::optional<External> external;
   /// "unstable at step k, t = …: <reason>", or "" for a stable run.
   std::string verdict() const {
     if (!instability) return "";

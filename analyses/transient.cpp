@@ -2,12 +2,17 @@
 
 #include "analyses/analysis.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 
 #include "analyses/report_section.hpp"
+#include "dynamics/external_solver.hpp"
 #include "methods/core/clock.hpp"
 #include "methods/core/errors.hpp"
 #include "reports/progress.hpp"
@@ -299,6 +304,207 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
 
 namespace {
 
+/// The last `bytes` of a file (a solver's stdout or stderr), for the report.
+std::string file_tail(const std::filesystem::path& file, std::size_t bytes = 2000) {
+  std::ifstream in(file, std::ios::binary);
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
+  return s;
+}
+
+/// The case directory of an external run: removed afterwards unless kept.
+struct CaseDirectory {
+  std::filesystem::path path;
+  bool keep = false;
+  CaseDirectory() {
+    std::string t = (std::filesystem::temp_directory_path() / "mfv-external-XXXXXX").string();
+    if (!::mkdtemp(t.data()))
+      throw std::runtime_error(fmt::format("cannot create a case directory under '{}'",
+                                           std::filesystem::temp_directory_path().string()));
+    path = t;
+  }
+  ~CaseDirectory() {
+    std::error_code ignored;
+    if (!keep) std::filesystem::remove_all(path, ignored);
+  }
+};
+
+/// An external solver's run of a transient case (issue 30): the problem's definition becomes
+/// the protocol's input (dynamics/external_solver.hpp), the solver runs once, and its frames
+/// are replayed, in time order, through the problem's own measurements — checkpoints, probes,
+/// trace, VTK frames, finish — on a state whose particle values are the solver's fields (an
+/// SPH engine holds them; it is never stepped). Energies other than the kinetic one are the
+/// solver's business and are not measured: their columns are NaN and the energy drift is not
+/// a headline.
+void run_external(const ExternalSolverMethod& ext, const TransientProblem& problem,
+                  const AnalysisContext& c, const Params& dynamics, CaseResult& r) {
+  const SolverSpec& spec = ext.spec();
+  if (!spec.supports(c.spec.problem))
+    throw InputError(fmt::format("external solver '{}' supports {}, not problem '{}' (its "
+                                 "file: '{}')",
+                                 spec.name, fmt::join(spec.problems, ", "), c.spec.problem,
+                                 spec.file.string()));
+  const AnalysisContext particles_context{c.plugins, c.problem, c.spec, ext.particle_method()};
+  Discretization d = discretize_case(problem, particles_context, r);
+  // The particles are mfv's; everything else about the method is the solver's.
+  r.method_description = fmt::format("external solver '{}': {} ({})", spec.name,
+                                     spec.description.empty() ? "no description" : spec.description,
+                                     spec.file.string());
+  r.quadrature_points = r.stress_points = 0;
+  r.cells = 0;
+  r.quadrature_kind.clear();
+  TransientData& td = r.emplace<TransientData>();
+  const double t0 = cpu_seconds();
+  TransientDefinition def = problem.define(
+      d, TransientInputs{c.plugins.materials, c.spec.method, r.method_params, c.spec.nodes,
+                         dynamics});
+  if (def.material_name.empty())
+    throw InputError(fmt::format("problem '{}' does not state its material for an external "
+                                 "solver (TransientDefinition::material_name)",
+                                 c.spec.problem));
+  if (def.steps > 0)
+    throw InputError(fmt::format("{}: a run of a fixed number of steps (a timing study) has "
+                                 "no meaning for external solver '{}', which chooses its own",
+                                 def.label, spec.name));
+  if (!(def.end_time > 0)) throw InputError("a transient run needs a positive end time");
+
+  ExternalCase ec;
+  ec.problem = c.spec.problem;
+  ec.problem_params = r.problem_params;
+  ec.solver_params = r.method_params;
+  ec.nodes = c.spec.nodes;
+  ec.dim = d.particles.x.rows();
+  ec.unit_system = def.unit_system;
+  ec.time_unit = def.time_unit;
+  ec.x = d.particles.x;
+  ec.volume = d.particles.volume;
+  ec.mass = def.model.mass;
+  ec.sides.resize(d.particles.size());
+  for (int I = 0; I < d.particles.size(); ++I) ec.sides[I] = static_cast<unsigned>(d.particles.sides[I]);
+  ec.initial_velocity = def.initial_velocity;
+  for (const PrescribedVelocity& p : def.model.prescribed)
+    ec.prescribed.push_back({p.particle, p.component, p.value, p.until});
+  ec.material = def.material_name;
+  ec.material_params = def.material_params;
+  ec.density = def.model.density;
+  ec.end_time = def.end_time;
+  // The times the problem reads the state at: its checkpoints, the history's samples, the
+  // VTK frames and, for a problem that measures over the run (a period), a finer trace.
+  ExplicitDynamics state(ext.particle_method(), std::move(d), std::move(def.model),
+                         DynamicsOptions{});
+  if (def.initial_velocity.size() > 0) state.set_particle_velocity(def.initial_velocity);
+  ec.checkpoints = def.step_checkpoints
+                       ? def.step_checkpoints(choose_step(state, dynamics).target,
+                                              state.critical_time_step())
+                       : def.checkpoints;
+  const int samples = dynamics.integer("samples") * (def.trace ? 4 : 1);
+  const int frames = dynamics.integer("frames");
+  std::vector<double> times = ec.checkpoints;
+  for (int k = 1; k <= samples; ++k) times.push_back(def.end_time * k / samples);
+  for (int k = 1; k <= frames; ++k) times.push_back(def.end_time * k / frames);
+  std::sort(times.begin(), times.end());
+  for (double t : times)
+    if (t > 0 && t <= def.end_time * (1 + 1e-12) &&
+        (ec.output_times.empty() || t - ec.output_times.back() > 1e-9 * def.end_time))
+      ec.output_times.push_back(t);
+  r.cpu.assembly = cpu_seconds() - t0;
+
+  CaseDirectory dir;
+  dir.keep = ext.params().integer("keep") == 1;
+  write_case_input(dir.path, ec);
+  ProgressBar bar(def.label + " (external:" + spec.name + ")", 1);
+  SolverRun run;
+  try {
+    run = run_solver(spec, dir.path);
+  } catch (...) {
+    bar.finish();
+    throw;
+  }
+  bar.update(1, def.end_time);
+  bar.finish();
+  TransientData::External info;
+  info.solver = spec.name;
+  info.command = fmt::format("{} {}", fmt::join(spec.command, " "),
+                             dir.keep ? dir.path.string() : std::string("<case directory>"));
+  info.wall_seconds = run.wall_seconds;
+  info.cpu_seconds = run.cpu_seconds;
+  info.stdout_tail = file_tail(run.stdout_file);
+  info.stderr_tail = file_tail(run.stderr_file);
+  const std::vector<ExternalFrame> out_frames = read_case_output(dir.path, ec);
+  info.frames = static_cast<int>(out_frames.size());
+  r.cpu.solve = run.cpu_seconds;
+
+  td.main_error = def.main_error;
+  td.time_unit = def.time_unit;
+  td.unit_system = def.unit_system;
+  td.end_time = def.end_time;
+  td.dt = td.dt_critical = NAN;
+  td.dynamics = fmt::format("external solver '{}' ({}); {} frames replayed through the "
+                            "problem's measurements",
+                            spec.name, spec.description.empty() ? info.command : spec.description,
+                            info.frames);
+  if (!def.notes.empty()) td.dynamics += "; " + def.notes;
+  td.history_columns = {"time", "kinetic", "internal work", "external work", "energy balance"};
+  for (const auto& n : def.probe_names) td.history_columns.push_back(n);
+  TransientMeasures m;
+  TransientOutcome outcome;
+  auto record = [&]() {
+    std::vector<double> row{state.time(), state.kinetic_energy(), NAN, NAN, NAN};
+    if (def.probes)
+      for (double v : def.probes(state)) row.push_back(v);
+    td.history.push_back(std::move(row));
+  };
+  record();
+  const long frame_every =
+      frames > 0 ? std::max<long>(1, static_cast<long>(ec.output_times.size()) / frames) : 0;
+  long done = 0;
+  for (std::size_t k = 0; k < out_frames.size(); ++k) {
+    const ExternalFrame& f = out_frames[k];
+    state.set_replayed_state(f.time, f.u, f.v);
+    done = static_cast<long>(k) + 1;
+    td.max_displacement = std::max(td.max_displacement, f.u.cwiseAbs().maxCoeff());
+    for (std::size_t q = 0; q < ec.checkpoints.size(); ++q)
+      if (std::abs(ec.checkpoints[q] - f.time) <= 1e-9 * def.end_time && def.at_checkpoint)
+        def.at_checkpoint(state, static_cast<int>(q), m);
+    record();
+    if (frame_every && (done % frame_every == 0 || k + 1 == out_frames.size())) {
+      TransientData::Frame fr;
+      fr.time = f.time;
+      fr.x = f.x;
+      fr.data.emplace_back("velocity", f.v);
+      fr.data.emplace_back("displacement", f.u);
+      if (f.stress.size() > 0) fr.data.emplace_back("stress", f.stress);
+      if (def.frame_data) def.frame_data(state, fr.data);
+      td.frames.push_back(std::move(fr));
+    }
+    if (def.unstable && !td.instability)
+      if (std::string why = def.unstable(state); !why.empty())
+        td.instability = TransientData::Instability{done, f.time, std::move(why)};
+    if (def.trace) {
+      outcome.trace_time.push_back(f.time);
+      outcome.trace.push_back(def.trace(state));
+    }
+    if (def.stop && def.stop(state)) break;
+  }
+  td.steps = done;
+  td.stopped_early = done < static_cast<long>(out_frames.size());
+  td.external = std::move(info);
+  outcome.dt = def.end_time / static_cast<double>(out_frames.size());
+  outcome.dt_critical = NAN;
+  outcome.steps = static_cast<long>(out_frames.size());
+  outcome.stopped_early = td.stopped_early;
+  outcome.unstable = td.instability.has_value();
+  outcome.unstable_time = td.instability ? td.instability->time : 0.0;
+  outcome.cpu_seconds = r.cpu.total();
+  outcome.cpu_loop = r.cpu.solve;
+  if (def.finish) def.finish(state, outcome, m);
+  r.errors = m.errors;
+  r.errors_paper = r.errors;
+  td.profiles = std::move(m.profiles);
+  for (auto& [k, v] : m.headline) r.headline[k] = v;
+  if (dir.keep) r.method_description += fmt::format(" (case directory kept: {})", dir.path.string());
+}
+
 class TransientAnalysis final : public Analysis {
  public:
   bool accepts(const Problem& problem) const override {
@@ -309,6 +515,8 @@ class TransientAnalysis final : public Analysis {
   void run(const AnalysisContext& c, CaseResult& r) const override {
     const auto& problem = definition_of<TransientProblem>(
         c, "transient", "a transient run (a TransientProblem's define)");
+    if (const auto* ext = dynamic_cast<const ExternalSolverMethod*>(&c.method))
+      return run_external(*ext, problem, c, p_, r);
     Discretization d = discretize_case(problem, c, r);
     TransientData& td = r.emplace<TransientData>();
     const double t0 = cpu_seconds();
@@ -392,6 +600,12 @@ class TransientAnalysis final : public Analysis {
   int print_case(const CaseResult& r, std::ostream& out) const override {
     const TransientData& t = r.data<TransientData>();
     out << fmt::format("dynamics  {}\n", t.dynamics);
+    if (t.external) {
+      out << fmt::format("solver    {}: {:.2f} s wall, {:.2f} s CPU, {} frames to t = {:.6g}{}\n",
+                         t.external->command, t.external->wall_seconds,
+                         t.external->cpu_seconds, t.external->frames, t.end_time,
+                         t.stopped_early ? " (the problem stopped the replay early)" : "");
+    } else {
     out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
                        "{:.6g}{}{}\n",
                        t.steps, t.dt, t.dt / t.dt_critical, t.dt_critical, t.steps * t.dt,
@@ -403,6 +617,7 @@ class TransientAnalysis final : public Analysis {
                                          t.retabulations, t.neighbour_rebuilds,
                                          degenerate_note(t.degenerate_peak))
                            : "");
+    }
     if (t.instability) out << fmt::format("verdict   {}\n", t.verdict());
     // NaN: a checkpoint the run did not reach, or a norm the problem does not measure.
     const std::string missing = t.instability ? "not reached" : "–";
@@ -413,10 +628,16 @@ class TransientAnalysis final : public Analysis {
                        t.main_error.empty() ? std::string("not measured")
                                             : shown(r.errors.l2_rel, "{:.6e}"));
     for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
-    out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
-                       "({:.3g} particle-steps/s)\n",
-                       r.cpu.setup, r.cpu.assembly, r.cpu.solve,
-                       r.particles * double(t.steps) / std::max(r.cpu.solve, 1e-9));
+    if (t.external)
+      out << fmt::format("CPU       setup {:.4f} s, input {:.4f} s, solver {:.4f} s ({:.3g} "
+                         "particle-frames/s of output)\n",
+                         r.cpu.setup, r.cpu.assembly, r.cpu.solve,
+                         r.particles * double(t.external->frames) / std::max(r.cpu.solve, 1e-9));
+    else
+      out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
+                         "({:.3g} particle-steps/s)\n",
+                         r.cpu.setup, r.cpu.assembly, r.cpu.solve,
+                         r.particles * double(t.steps) / std::max(r.cpu.solve, 1e-9));
     return t.instability ? 1 : 0;
   }
 

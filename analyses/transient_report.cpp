@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "reports/atomic.hpp"
+#include "dynamics/external_solver.hpp"
 #include "analyses/transient.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
@@ -46,6 +47,8 @@ std::string fmt_headline(const std::string& name, double v, const TransientData&
 
 /// Particle-steps per second of the time loop's CPU time ("–" when it took none).
 std::string fmt_particle_steps(const CaseResult& r, const TransientData& t) {
+  // An external solver's steps are its own (t.steps counts the frames read back).
+  if (t.external) return "–";
   return r.cpu.solve > 0 ? fmt_sci(r.particles * double(t.steps) / r.cpu.solve, 2) : "–";
 }
 
@@ -290,6 +293,27 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
           "a problem may add its own criterion. Checkpoints after the stop are "
           "\"not reached\"; a peak of a run stopped early is a lower bound (≥).\n\n{}\n",
           kEnergyBound, why);
+  }
+  // External solvers (docs/external-solvers.md): what ran, and what it said.
+  {
+    std::string ext;
+    auto fenced = [](const std::string& text) {
+      std::string t = text;
+      while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
+      return t.empty() ? std::string("(empty)\n") : fmt::format("```\n{}\n```\n", t);
+    };
+    for (const auto& s : section.studies)
+      for (const auto& r : s.cases)
+        if (const auto& e = r.data<TransientData>().external)
+          ext += fmt::format("- `{}` n={}: `{}`, {:.2f} s wall, {:.2f} s CPU, {} frames "
+                             "(protocol {})\n\n  stdout (tail):\n\n{}\n  stderr (tail):\n\n{}\n",
+                             s.label, r.spec.nodes, e->command, e->wall_seconds, e->cpu_seconds,
+                             e->frames, kExternalProtocol, fenced(e->stdout_tail),
+                             fenced(e->stderr_tail));
+    if (!ext.empty())
+      page.errors += "**External solvers.** Their frames were replayed through this problem's "
+                     "measurements (protocol: docs/external-solvers.md in mfv's sources); energies other than "
+                     "the kinetic one are the solver's and are not measured.\n\n" + ext + "\n";
   }
   page.errors += frame_comparison(section.studies);
 

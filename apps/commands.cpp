@@ -1,4 +1,5 @@
 #include "apps/commands.hpp"
+#include "dynamics/external_solver.hpp"
 #include "methods/core/petsc_session.hpp"
 
 #include <algorithm>
@@ -494,7 +495,10 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
 }
 
 std::pair<std::string, std::string> split_method_spec(const std::string& spec) {
-  const auto colon = spec.find(':');
+  // An external solver's name has a colon of its own: external:<name>[:key=value,...].
+  const std::string external = "external:";
+  const auto colon =
+      spec.find(':', spec.rfind(external, 0) == 0 ? external.size() : std::size_t{0});
   std::string name = spec.substr(0, colon);
   std::string params = colon == std::string::npos ? "" : spec.substr(colon + 1);
   if (name.empty())
@@ -566,6 +570,16 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
     } catch (const SingularError& e) {
       failures.push_back(fmt::format("{}: {}", label, e.what()));
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, specs.size(), label,
+                              e.what());
+    } catch (const ExternalSolverError& e) {
+      // An external solver that failed, timed out or wrote a broken frame: this study fails
+      // with the reason; the others still run.
+      failures.push_back(fmt::format("{}: {}", label, e.what()));
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, specs.size(), label,
+                              e.what());
+    } catch (const ExternalSolverMissing& e) {
+      failures.push_back(fmt::format("{}: not run: {}", label, e.what()));
+      progress << fmt::format("[{}/{}] {}: not run: {}\n", k + 1, specs.size(), label,
                               e.what());
     }
   }
@@ -811,6 +825,15 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     } catch (const SingularError& e) {
       oc.error = e.what();
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
+                              e.what());
+    } catch (const ExternalSolverError& e) {
+      oc.error = e.what();
+      progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
+                              e.what());
+    } catch (const ExternalSolverMissing& e) {
+      // Not installed here: the case did not run, which a regression run must not pass.
+      oc.error = fmt::format("not run: {}", e.what());
+      progress << fmt::format("[{}/{}] {}: not run: {}\n", k + 1, selected.size(), mc.id,
                               e.what());
     }
     oc.seconds = wall_seconds() - case_start;

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "dynamics/external_solver.hpp"
 #include "apps/commands.hpp"
 #include "apps/plugins.hpp"
 #include "reports/atomic.hpp"
@@ -344,7 +345,15 @@ int main(int argc, char** argv) {
     if (*cmd_verify)
       for (const auto& p : mfv::load_manifest(ver.manifest).plugins) plugin_files.push_back(p);
     const mfv::Plugins plugins(plugin_files);
-    const mfv::Catalogue catalogue(plugins.extensions());
+    // External solvers (issue 30): `external:<name>` for each solvers/<name>.toml found
+    // (dynamics/external_solver.hpp: $MFV_SOLVERS, the installed share/mfv/solvers or the
+    // source tree's).
+    mfv::Extensions extensions = plugins.extensions();
+    extensions.methods.push_back(
+        [specs = mfv::find_solver_specs()](mfv::MethodRegistry& r, const mfv::MethodParts&) {
+          mfv::register_external_solvers(r, specs);
+        });
+    const mfv::Catalogue catalogue(extensions);
     if (*list) {
       mfv::command_list(catalogue, list_what, out);
       status = flushed(0);

@@ -8,6 +8,8 @@
 #                                        (link one for your own driver), mfv::plugin (compile a
 #                                        plugin library) and mfv::mfv (the executable)
 #   <p>/share/mfv/suites/                the manifests and the baseline
+#   <p>/share/mfv/solvers/               the external solvers' files and adapters (mfv finds
+#                                        them beside bin/mfv)
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -26,6 +28,7 @@ install(DIRECTORY methods reports dynamics stability problems analyses verify ap
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mfv
         FILES_MATCHING PATTERN "*.hpp")
 install(DIRECTORY suites DESTINATION ${CMAKE_INSTALL_DATADIR}/mfv)
+install(DIRECTORY solvers DESTINATION ${CMAKE_INSTALL_DATADIR}/mfv)
 
 set(mfv_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/mfv)
 install(EXPORT mfvTargets NAMESPACE mfv:: DESTINATION ${mfv_cmake_dir})

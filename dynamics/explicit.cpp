@@ -886,6 +886,18 @@ void ExplicitDynamics::set_particle_velocity(const Eigen::MatrixXd& v) {
   energy_.initial = energy_.kinetic - energy_.internal_work + energy_.external_work;
 }
 
+void ExplicitDynamics::set_replayed_state(double t, const Eigen::MatrixXd& u,
+                                          const Eigen::MatrixXd& v) {
+  if (!d_.particle_values)
+    throw std::logic_error("set_replayed_state: the method's unknowns are not particle values");
+  if (u.rows() != dim_ || u.cols() != n_ || v.rows() != dim_ || v.cols() != n_)
+    throw std::logic_error(fmt::format("set_replayed_state: fields must be {} × {}", dim_, n_));
+  t_ = t;
+  u_ = Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
+  v_ = Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
+  energy_.kinetic = kinetic_energy();
+}
+
 double ExplicitDynamics::max_eigenvalue(int iterations) const {
   const int m = dim_ * n_;
   std::mt19937_64 rng(7);

@@ -279,6 +279,12 @@ class ExplicitDynamics {
   /// particle values themselves (SPH, RLM) or the nodal parameters whose field takes these
   /// values at the particles (MLS), found by a sparse solve.
   void set_particle_velocity(const Eigen::MatrixXd& v);
+  /// Sets the time and the particles' displacements and velocities (dim × N) to fields
+  /// computed elsewhere — an external solver's frame (dynamics/external_solver.hpp) — so the
+  /// problems' measurements read them. Methods whose unknowns are the particle values only
+  /// (std::logic_error otherwise); stresses and energies other than the kinetic one are not
+  /// the solver's and are not to be read.
+  void set_replayed_state(double t, const Eigen::MatrixXd& u, const Eigen::MatrixXd& v);
 
   /// ω_max² of M⁻¹K about the current state, K from central differences of the internal force
   /// (power iteration; free unknowns only). The critical step of central differences is

@@ -119,6 +119,8 @@ class OscillatingPlate final : public TransientProblem {
     TransientDefinition def;
     DynamicsModel& model = def.model;
     model.material = in.materials.create("svk", mp);
+    def.material_name = "svk";
+    def.material_params = mp;
     model.density = kDensity;
     model.mass = lumped_masses(d.particles, kDensity, MassLumping::volume);
     const ParticleSet& X = d.particles;

@@ -155,6 +155,8 @@ class RodPulse final : public TransientProblem {
     TransientDefinition def;
     DynamicsModel& model = def.model;
     model.material = in.materials.create("svk", mp);
+    def.material_name = "svk";
+    def.material_params = mp;
     model.density = kDensity;
     model.mass = lumped_masses(d.particles, kDensity,
                                p_.text("mass") == "volume" ? MassLumping::volume

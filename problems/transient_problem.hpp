@@ -54,6 +54,11 @@ struct TransientInputs {
 /// (peaks, onset times): they are called in the order of the run, on one thread.
 struct TransientDefinition {
   DynamicsModel model;
+  /// The material as an external solver is told it (issue 30; docs/external-solvers.md): the
+  /// registry name and the parameters model.material was created from. Empty: the problem
+  /// cannot be run by an external solver.
+  std::string material_name;
+  Params material_params;
   /// Particle velocities at t = 0 (dim × N); empty: at rest.
   Eigen::MatrixXd initial_velocity;
   double end_time = 0;

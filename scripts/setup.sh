@@ -12,6 +12,7 @@ packages=(
   petsc-dev openmpi-bin
   gnuplot-nox
   python3-jsonschema
+  python3-pysph
   libxml2-utils libsqlite3-dev
 )
 

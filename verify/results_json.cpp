@@ -1,5 +1,6 @@
 #include "verify/results_json.hpp"
 
+#include "dynamics/external_solver.hpp"
 #include "verify/provenance.hpp"
 
 #include <algorithm>
@@ -330,6 +331,15 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
                           {"end_time", n.number(t->end_time, p + "/transient/end_time", "not reached")},
                           {"steps", t->steps},
                           {"dynamics", t->dynamics}};
+    if (const TransientData* t = r.find<TransientData>(); t && t->external)
+      res["transient"]["external"] = {{"solver", t->external->solver},
+                                      {"protocol", kExternalProtocol},
+                                      {"command", t->external->command},
+                                      {"wall_seconds", t->external->wall_seconds},
+                                      {"cpu_seconds", t->external->cpu_seconds},
+                                      {"frames", t->external->frames},
+                                      {"stdout_tail", t->external->stdout_tail},
+                                      {"stderr_tail", t->external->stderr_tail}};
     const FigureData* fig = r.find<FigureData>();
     res["verdicts"] = fig ? fig->verdicts : std::vector<std::string>{};
     resolutions.push_back(std::move(res));

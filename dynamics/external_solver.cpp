@@ -1,0 +1,588 @@
+#include "dynamics/external_solver.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "methods/core/errors.hpp"
+
+extern char** environ;
+
+namespace mfv {
+
+namespace fs = std::filesystem;
+
+bool SolverSpec::supports(const std::string& problem) const {
+  return std::find(problems.begin(), problems.end(), problem) != problems.end();
+}
+
+namespace {
+
+std::vector<std::string> string_array(const toml::table& t, const std::string& key,
+                                      const fs::path& file, bool required) {
+  const toml::node* n = t.get(key);
+  if (!n) {
+    if (required)
+      throw InputError(fmt::format("solver file '{}': [solver] {} is missing; give it as an "
+                                   "array of strings, e.g. {} = [\"python3\", \"adapter.py\"]",
+                                   file.string(), key, key));
+    return {};
+  }
+  const toml::array* a = n->as_array();
+  if (!a)
+    throw InputError(fmt::format("solver file '{}': [solver] {} must be an array of strings",
+                                 file.string(), key));
+  std::vector<std::string> out;
+  for (const auto& e : *a) {
+    const auto s = e.value<std::string>();
+    if (!s)
+      throw InputError(fmt::format("solver file '{}': [solver] {} must be an array of "
+                                   "strings; element {} is not one",
+                                   file.string(), key, out.size() + 1));
+    out.push_back(*s);
+  }
+  return out;
+}
+
+std::string substitute_dir(std::string s, const fs::path& dir) {
+  const std::string key = "{solver_dir}";
+  for (auto p = s.find(key); p != std::string::npos; p = s.find(key, p))
+    s.replace(p, key.size(), dir.string());
+  return s;
+}
+
+std::string tail_of(const fs::path& file, std::size_t bytes = 1500) {
+  std::ifstream in(file, std::ios::binary);
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+std::string shown_command(const std::vector<std::string>& argv) {
+  return fmt::format("{}", fmt::join(argv, " "));
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Spawns argv in `dir` (own process group, stdin from /dev/null, stdout/stderr to the
+/// files), waits up to `timeout` s; returns the exit status, or -1 on timeout (the group
+/// then got SIGTERM and, 5 s later, SIGKILL). errno-style failure to start: the error code
+/// in `spawn_error`.
+int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
+                   const fs::path& out, const fs::path& err, double timeout, int& spawn_error,
+                   double& wall, double* cpu = nullptr) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addchdir_np(&fa, dir.c_str());
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK |
+                                      POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setpgroup(&attr, 0);
+  // mfv blocks SIGINT/SIGTERM/SIGHUP for its clean-up thread; the solver gets them back.
+  sigset_t none, deflt;
+  sigemptyset(&none);
+  sigemptyset(&deflt);
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&deflt, s);
+  posix_spawnattr_setsigmask(&attr, &none);
+  posix_spawnattr_setsigdefault(&attr, &deflt);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  spawn_error = posix_spawnp(&pid, args[0], &fa, &attr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  if (spawn_error != 0) return -2;
+  int status = 0;
+  bool timed_out = false;
+  double killed_at = 0;
+  for (;;) {
+    struct rusage usage {};
+    const pid_t w = ::wait4(pid, &status, WNOHANG, &usage);
+    if (w == pid) {
+      if (cpu)
+        *cpu = usage.ru_utime.tv_sec + 1e-6 * usage.ru_utime.tv_usec + usage.ru_stime.tv_sec +
+               1e-6 * usage.ru_stime.tv_usec;
+      break;
+    }
+    if (w < 0 && errno != EINTR) break;
+    const double t = seconds_since(t0);
+    if (!timed_out && t > timeout) {
+      timed_out = true;
+      killed_at = t;
+      ::kill(-pid, SIGTERM);
+    } else if (timed_out && t > killed_at + 5) {
+      ::kill(-pid, SIGKILL);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(t < 1 ? 5 : 50));
+  }
+  wall = seconds_since(t0);
+  // Whatever the solver left running in its group goes with it.
+  ::kill(-pid, SIGKILL);
+  if (timed_out) return -1;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 255;
+}
+
+}  // namespace
+
+SolverSpec read_solver_spec(const fs::path& file) {
+  toml::table doc;
+  try {
+    doc = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("solver file '{}': not TOML: {} (line {})", file.string(),
+                                 e.description(), e.source().begin.line));
+  }
+  const toml::table* t = doc["solver"].as_table();
+  if (!t)
+    throw InputError(fmt::format("solver file '{}': no [solver] table; see "
+                                 "docs/external-solvers.md for the keys",
+                                 file.string()));
+  static const std::set<std::string> known = {"command", "problems", "timeout", "description",
+                                              "install_hint", "check", "params"};
+  for (const auto& [k, v] : *t)
+    if (!known.count(std::string(k.str())))
+      throw InputError(fmt::format("solver file '{}': unknown key [solver] {}; valid keys: {}",
+                                   file.string(), k.str(), fmt::join(known, ", ")));
+  SolverSpec s;
+  s.file = fs::absolute(file);
+  s.name = file.stem().string();
+  const fs::path dir = s.file.parent_path();
+  s.command = string_array(*t, "command", file, true);
+  if (s.command.empty() || s.command.front().empty())
+    throw InputError(fmt::format("solver file '{}': [solver] command is empty; give the "
+                                 "program and its arguments",
+                                 file.string()));
+  for (auto& a : s.command) a = substitute_dir(a, dir);
+  s.check = string_array(*t, "check", file, false);
+  for (auto& a : s.check) a = substitute_dir(a, dir);
+  s.problems = string_array(*t, "problems", file, true);
+  if (s.problems.empty())
+    throw InputError(fmt::format("solver file '{}': [solver] problems is empty; name the "
+                                 "problems the solver supports",
+                                 file.string()));
+  if (const toml::node* n = t->get("timeout")) {
+    const auto v = n->value<double>();
+    if (!v || !(*v > 0) || !std::isfinite(*v))
+      throw InputError(fmt::format("solver file '{}': [solver] timeout must be a positive "
+                                   "number of seconds",
+                                   file.string()));
+    s.timeout = *v;
+  }
+  for (const char* key : {"description", "install_hint"})
+    if (const toml::node* n = t->get(key)) {
+      const auto v = n->value<std::string>();
+      if (!v)
+        throw InputError(
+            fmt::format("solver file '{}': [solver] {} must be a string", file.string(), key));
+      (std::string(key) == "description" ? s.description : s.install_hint) = *v;
+    }
+  if (const toml::node* n = t->get("params")) {
+    const toml::table* pt = n->as_table();
+    if (!pt)
+      throw InputError(fmt::format("solver file '{}': [solver.params] must be a table of "
+                                   "name = default",
+                                   file.string()));
+    for (const auto& [k, v] : *pt) {
+      const std::string key(k.str());
+      if (key == "keep")
+        throw InputError(fmt::format("solver file '{}': [solver.params] keep is mfv's own "
+                                     "parameter; rename the solver's",
+                                     file.string()));
+      if (const auto x = v.value<double>(); x && !v.is_string()) {
+        s.params.set(key, *x);
+      } else if (const auto text = v.value<std::string>()) {
+        s.params.set(key, ParamValue{*text});
+      } else {
+        throw InputError(fmt::format("solver file '{}': [solver.params] {} must be a number or "
+                                     "a string",
+                                     file.string(), key));
+      }
+    }
+  }
+  return s;
+}
+
+std::vector<SolverSpec> read_solver_specs(const fs::path& dir) {
+  std::vector<SolverSpec> out;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return out;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".toml" && e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) out.push_back(read_solver_spec(f));
+  return out;
+}
+
+void write_case_input(const fs::path& dir, const ExternalCase& c) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || !fs::is_empty(dir, ec))
+    throw std::runtime_error(fmt::format("the external case directory '{}' must exist and be "
+                                         "empty",
+                                         dir.string()));
+  const int n = static_cast<int>(c.x.cols());
+  if (c.x.rows() != c.dim || c.volume.size() != n || c.mass.size() != n ||
+      static_cast<int>(c.sides.size()) != n ||
+      (c.initial_velocity.size() > 0 &&
+       (c.initial_velocity.rows() != c.dim || c.initial_velocity.cols() != n)))
+    throw std::logic_error("write_case_input: particle arrays of different sizes");
+  if (c.output_times.empty() || !std::is_sorted(c.output_times.begin(), c.output_times.end()))
+    throw std::logic_error("write_case_input: output times must be given, increasing");
+  auto params_json = [](const Params& p) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [k, v] : p.values())
+      std::visit([&](const auto& x) { j[k] = x; }, v);
+    return j;
+  };
+  nlohmann::json j;
+  j["protocol"] = kExternalProtocol;
+  j["problem"] = c.problem;
+  j["problem_params"] = params_json(c.problem_params);
+  j["solver_params"] = params_json(c.solver_params);
+  j["nodes"] = c.nodes;
+  j["dim"] = c.dim;
+  j["units"] = {{"system", c.unit_system}, {"time", c.time_unit}};
+  j["particles"] = {{"count", n}, {"file", "particles.csv"}};
+  j["material"] = {{"model", c.material}, {"params", params_json(c.material_params)},
+                   {"density", c.density}};
+  nlohmann::json pv = nlohmann::json::array();
+  for (const auto& p : c.prescribed)
+    pv.push_back({{"particle", p.particle}, {"component", p.component}, {"value", p.value},
+                  {"until", p.until}});
+  j["prescribed_velocity"] = pv;
+  j["end_time"] = c.end_time;
+  j["checkpoints"] = c.checkpoints;
+  j["output_times"] = c.output_times;
+  j["output"] = {{"index", "frames/index.csv"}, {"frame", "frames/frame-<k>.csv"}};
+  std::ofstream(dir / "input.json") << j.dump(2) << "\n";
+
+  std::ofstream p(dir / "particles.csv");
+  const char* axes[] = {"x", "y", "z"};
+  p << "id";
+  for (int a = 0; a < c.dim; ++a) p << "," << axes[a];
+  p << ",volume,mass";
+  for (int a = 0; a < c.dim; ++a) p << ",v" << axes[a] << "0";
+  p << ",sides\n";
+  for (int I = 0; I < n; ++I) {
+    p << I;
+    for (int a = 0; a < c.dim; ++a) p << fmt::format(",{:.17g}", c.x(a, I));
+    p << fmt::format(",{:.17g},{:.17g}", c.volume(I), c.mass(I));
+    for (int a = 0; a < c.dim; ++a)
+      p << fmt::format(",{:.17g}", c.initial_velocity.size() ? c.initial_velocity(a, I) : 0.0);
+    p << "," << c.sides[I] << "\n";
+  }
+  if (!p) throw std::runtime_error(fmt::format("cannot write '{}'", (dir / "particles.csv").string()));
+}
+
+std::optional<std::string> solver_missing(const SolverSpec& spec) {
+  const std::vector<std::string>& probe = spec.check.empty() ? spec.command : spec.check;
+  if (spec.check.empty()) {
+    // Without a check: the program must be found (a path, or a name on PATH).
+    const std::string& prog = probe.front();
+    if (prog.find('/') != std::string::npos) {
+      if (::access(prog.c_str(), X_OK) != 0)
+        return fmt::format("{}: not an executable file", prog);
+      return std::nullopt;
+    }
+    const char* path = std::getenv("PATH");
+    std::stringstream dirs(path ? path : "/usr/bin:/bin");
+    for (std::string d; std::getline(dirs, d, ':');)
+      if (!d.empty() && ::access((fs::path(d) / prog).c_str(), X_OK) == 0) return std::nullopt;
+    return fmt::format("{}: no such program on PATH", prog);
+  }
+  const fs::path tmp = fs::temp_directory_path();
+  const fs::path out = tmp / fmt::format("mfv-check-{}-out", ::getpid());
+  const fs::path err = tmp / fmt::format("mfv-check-{}-err", ::getpid());
+  int spawn_error = 0;
+  double wall = 0;
+  const int rc = spawn_and_wait(probe, tmp, out, err, 60, spawn_error, wall);
+  const std::string why = tail_of(err, 300);
+  std::error_code ignored;
+  fs::remove(out, ignored);
+  fs::remove(err, ignored);
+  if (rc == -2)
+    return fmt::format("{}: cannot start ({})", probe.front(), std::strerror(spawn_error));
+  if (rc != 0)
+    return fmt::format("check '{}' {}{}", shown_command(probe),
+                       rc == -1 ? "did not finish in 60 s" : fmt::format("exited {}", rc),
+                       why.empty() ? "" : ": " + why);
+  return std::nullopt;
+}
+
+SolverRun run_solver(const SolverSpec& spec, const fs::path& dir) {
+  if (const auto why = solver_missing(spec))
+    throw ExternalSolverMissing(fmt::format(
+        "external solver '{}' is not installed here: {}{}", spec.name, *why,
+        spec.install_hint.empty() ? "" : fmt::format(" (install: {})", spec.install_hint)));
+  SolverRun r;
+  r.stdout_file = dir / "stdout.txt";
+  r.stderr_file = dir / "stderr.txt";
+  std::vector<std::string> argv = spec.command;
+  argv.push_back(fs::absolute(dir).string());
+  int spawn_error = 0;
+  const int rc = spawn_and_wait(argv, dir, r.stdout_file, r.stderr_file, spec.timeout,
+                                spawn_error, r.wall_seconds, &r.cpu_seconds);
+  if (rc == -2)
+    throw ExternalSolverMissing(fmt::format("external solver '{}': cannot start '{}' ({}){}",
+                                            spec.name, argv.front(), std::strerror(spawn_error),
+                                            spec.install_hint.empty()
+                                                ? ""
+                                                : fmt::format(" (install: {})", spec.install_hint)));
+  r.exit_code = rc;
+  const std::string err = tail_of(r.stderr_file);
+  if (rc == -1)
+    throw ExternalSolverError(fmt::format(
+        "external solver '{}' did not finish within its timeout of {:g} s (stopped; raise "
+        "[solver] timeout in '{}' for larger cases){}",
+        spec.name, spec.timeout, spec.file.string(), err.empty() ? "" : "; stderr: " + err));
+  if (rc != 0)
+    throw ExternalSolverError(fmt::format("external solver '{}' exited {} after {:.1f} s{}",
+                                          spec.name, rc, r.wall_seconds,
+                                          err.empty() ? " (stderr empty)" : "; stderr: " + err));
+  return r;
+}
+
+namespace {
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  for (std::string f; std::getline(s, f, ',');) {
+    while (!f.empty() && (f.back() == '\r' || f.back() == ' ')) f.pop_back();
+    while (!f.empty() && f.front() == ' ') f.erase(f.begin());
+    out.push_back(f);
+  }
+  return out;
+}
+
+/// Parses a CSV number; NaN for "nan" and for anything unparsable (reported as such).
+bool parse_number(const std::string& s, double& v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end && *end == '\0';
+}
+
+std::string time_name(const ExternalCase& c, std::size_t k) {
+  const double t = c.output_times[k];
+  const bool checkpoint =
+      std::any_of(c.checkpoints.begin(), c.checkpoints.end(),
+                  [&](double tc) { return std::abs(tc - t) <= 1e-9 * std::max(1.0, std::abs(t)); });
+  return fmt::format("{} t = {:.6g} (frame {})", checkpoint ? "checkpoint" : "output time", t, k);
+}
+
+}  // namespace
+
+std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalCase& c) {
+  const fs::path frames = dir / "frames";
+  const fs::path index = frames / "index.csv";
+  std::ifstream in(index);
+  if (!in)
+    throw ExternalSolverError(fmt::format("the solver wrote no frames/index.csv (expected the "
+                                          "line '{}', then k,time for each of {} frames)",
+                                          kExternalProtocol, c.output_times.size()));
+  std::string line;
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  if (line != kExternalProtocol)
+    throw ExternalSolverError(fmt::format("frames/index.csv: first line '{}', expected the "
+                                          "protocol '{}'",
+                                          line.substr(0, 60), kExternalProtocol));
+  std::map<std::size_t, double> written;
+  for (int ln = 2; std::getline(in, line); ++ln) {
+    if (line.empty() || line == "k,time") continue;
+    const auto f = split_csv(line);
+    double k = 0, t = 0;
+    if (f.size() != 2 || !parse_number(f[0], k) || !parse_number(f[1], t) || k < 0 ||
+        k != std::floor(k))
+      throw ExternalSolverError(
+          fmt::format("frames/index.csv line {}: '{}' is not 'k,time'", ln, line.substr(0, 60)));
+    written[static_cast<std::size_t>(k)] = t;
+  }
+  const int n = static_cast<int>(c.x.cols());
+  const char* axes[] = {"x", "y", "z"};
+  std::vector<std::string> need{"id"};
+  for (int a = 0; a < c.dim; ++a) need.push_back(fmt::format("u{}", axes[a]));
+  for (int a = 0; a < c.dim; ++a) need.push_back(fmt::format("v{}", axes[a]));
+  const std::vector<std::string> stress_cols =
+      c.dim == 1 ? std::vector<std::string>{"sxx"} : std::vector<std::string>{"sxx", "syy", "sxy"};
+
+  std::vector<ExternalFrame> out;
+  for (std::size_t k = 0; k < c.output_times.size(); ++k) {
+    const std::string what = time_name(c, k);
+    const auto w = written.find(k);
+    const fs::path file = frames / fmt::format("frame-{}.csv", k);
+    if (w == written.end() || !fs::is_regular_file(file))
+      throw ExternalSolverError(fmt::format(
+          "{} missing: {}", what,
+          w == written.end() ? "not in frames/index.csv" : "no " + file.filename().string()));
+    const double t = c.output_times[k];
+    if (!(std::abs(w->second - t) <= 1e-9 * std::max(1.0, std::abs(t))))
+      throw ExternalSolverError(fmt::format("{}: the solver wrote it at t = {:.9g}, not at the "
+                                            "requested time",
+                                            what, w->second));
+    std::ifstream f(file);
+    std::getline(f, line);
+    const auto header = split_csv(line);
+    std::map<std::string, int> col;
+    for (int i = 0; i < static_cast<int>(header.size()); ++i) col[header[i]] = i;
+    for (const auto& h : need)
+      if (!col.count(h))
+        throw ExternalSolverError(fmt::format("{}: {} has no column '{}' (header: {})", what,
+                                              file.filename().string(), h, line.substr(0, 80)));
+    const bool has_stress = std::all_of(stress_cols.begin(), stress_cols.end(),
+                                        [&](const std::string& s) { return col.count(s) != 0; });
+    ExternalFrame fr;
+    fr.time = t;
+    fr.u = Eigen::MatrixXd::Constant(c.dim, n, std::nan(""));
+    fr.v = fr.u;
+    if (has_stress)
+      fr.stress = Eigen::MatrixXd::Constant(static_cast<int>(stress_cols.size()), n, std::nan(""));
+    std::vector<char> seen(n, 0);
+    int rows = 0;
+    for (int ln = 2; std::getline(f, line); ++ln) {
+      if (line.empty()) continue;
+      ++rows;
+      const auto v = split_csv(line);
+      if (v.size() != header.size())
+        throw ExternalSolverError(fmt::format("{}: {} line {} has {} fields, the header {}", what,
+                                              file.filename().string(), ln, v.size(),
+                                              header.size()));
+      double id = 0;
+      if (!parse_number(v[col["id"]], id) || id < 0 || id >= n || id != std::floor(id))
+        throw ExternalSolverError(fmt::format("{}: {} line {}: id '{}' is not a particle "
+                                              "(0 … {})",
+                                              what, file.filename().string(), ln, v[col["id"]],
+                                              n - 1));
+      const int I = static_cast<int>(id);
+      if (seen[I])
+        throw ExternalSolverError(
+            fmt::format("{}: particle {} appears twice in {}", what, I, file.filename().string()));
+      seen[I] = 1;
+      auto field = [&](const std::string& name) {
+        double x = 0;
+        if (!parse_number(v[col[name]], x) || !std::isfinite(x))
+          throw ExternalSolverError(fmt::format("{}: field {} is {} at particle {}", what, name,
+                                                v[col[name]].empty() ? "empty" : v[col[name]], I));
+        return x;
+      };
+      for (int a = 0; a < c.dim; ++a) {
+        fr.u(a, I) = field(fmt::format("u{}", axes[a]));
+        fr.v(a, I) = field(fmt::format("v{}", axes[a]));
+      }
+      if (has_stress)
+        for (int s = 0; s < static_cast<int>(stress_cols.size()); ++s)
+          fr.stress(s, I) = field(stress_cols[s]);
+    }
+    if (rows != n)
+      throw ExternalSolverError(
+          fmt::format("{}: {} particles in {}, expected {}", what, rows, file.filename().string(), n));
+    fr.x = c.x + fr.u;
+    out.push_back(std::move(fr));
+  }
+  return out;
+}
+
+Discretization ExternalSolverMethod::discretize(const Domain&, ParticleSet, int) const {
+  throw InputError(fmt::format(
+      "method 'external:{}' is an external solver: it runs through the transient analysis "
+      "only, on the problems its file '{}' names ({}); choose one of those",
+      spec_.name, spec_.file.string(), fmt::join(spec_.problems, ", ")));
+}
+
+void ExternalSolverMethod::retabulate(Discretization&, int) const {
+  throw std::logic_error("an external solver has no tables to recompute");
+}
+
+void register_external_solvers(MethodRegistry& methods, const std::vector<SolverSpec>& specs) {
+  for (const SolverSpec& spec : specs) {
+    ParamSchema schema;
+    ParamSpec keep = ParamSpec::count("keep", 0, 0,
+                                      "1: keep the case directory (input, frames, stdout, "
+                                      "stderr) and name it; 0: remove it after the run");
+    keep.max = 1;
+    schema.push_back(std::move(keep));
+    for (const auto& [name, value] : spec.params.values()) {
+      ParamSpec p;
+      p.name = name;
+      p.description = fmt::format("the solver's own parameter ({} [solver.params])",
+                                  spec.file.filename().string());
+      p.default_value = value;
+      schema.push_back(std::move(p));
+    }
+    methods.add(
+        "external:" + spec.name,
+        fmt::format("external solver: {} ({}; supports {})",
+                    spec.description.empty() ? shown_command(spec.command) : spec.description,
+                    spec.file.string(), fmt::join(spec.problems, ", ")),
+        std::move(schema), [&methods, spec](const Params& p) -> std::unique_ptr<Method> {
+          return std::make_unique<ExternalSolverMethod>(spec, methods.create("sph"), p);
+        });
+  }
+}
+
+std::vector<fs::path> solver_dirs() {
+  std::vector<fs::path> out;
+  if (const char* env = std::getenv("MFV_SOLVERS")) {
+    std::stringstream dirs(env);
+    for (std::string d; std::getline(dirs, d, ':');)
+      if (!d.empty()) out.emplace_back(d);
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path installed = exe.parent_path().parent_path() / "share" / "mfv" / "solvers";
+  if (!ec && fs::is_directory(installed, ec)) {
+    out.push_back(installed);
+  } else {
+#ifdef MFV_SOURCE_DIR
+    out.emplace_back(fs::path(MFV_SOURCE_DIR) / "solvers");
+#endif
+  }
+  return out;
+}
+
+std::vector<SolverSpec> find_solver_specs() {
+  std::vector<SolverSpec> out;
+  std::map<std::string, fs::path> seen;
+  for (const auto& dir : solver_dirs())
+    for (SolverSpec& s : read_solver_specs(dir)) {
+      if (const auto it = seen.find(s.name); it != seen.end())
+        throw InputError(fmt::format("external solver '{}' is defined twice: '{}' and '{}'; "
+                                     "rename one file (MFV_SOLVERS is searched first)",
+                                     s.name, it->second.string(), s.file.string()));
+      seen[s.name] = s.file;
+      out.push_back(std::move(s));
+    }
+  return out;
+}
+
+}  // namespace mfv

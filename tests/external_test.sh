@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# External solvers through the command line (issue 30; docs/external-solvers.md):
+#   1. solvers/fem-rod (the protocol's example) runs the rod pulse like any method: run,
+#      compare beside sph with a report (page section, results.json valid against the
+#      schema), and a manifest case judged by its bands;
+#   2. refusals with exit 2: a problem or an analysis the solver does not support, a solver
+#      defined twice, a broken solver file;
+#   3. broken solvers (timeout, exit code, missing checkpoint, NaN, wrong particle count, not
+#      installed) fail naming the cause, never with a number; the other studies still run.
+# Usage: external_test.sh <mfv> <source dir>
+set -u
+mfv=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+checks=0
+ok() { checks=$((checks + 1)); }
+
+# 1. The example solver.
+out=$("$mfv" run rod-pulse -m external:fem-rod -n 61 2>&1) || { echo "$out"; fail "run: exit $?"; }
+err=$(echo "$out" | awk '/^velocity error at L\/c  /{print $NF}')
+python3 -c "import sys; e=float('$err'); sys.exit(0 if 0 < e < 0.05 else 1)" ||
+  { echo "$out"; fail "run: velocity error at L/c '$err' not in (0, 0.05)"; }
+echo "$out" | grep -q "^solver    python3 .*fem_rod.py <case directory>: .* frames to t = " ||
+  { echo "$out"; fail "run: no solver line"; }
+ok
+
+"$mfv" compare rod-pulse -m sph -m external:fem-rod -n 25,49 -r "$work/rep" > "$work/cmp.out" 2>&1 ||
+  { cat "$work/cmp.out"; fail "compare: exit $?"; }
+grep -rq "External solvers" "$work/rep" || fail "compare: no 'External solvers' section in the report"
+python3 - "$work/rep/results.json" <<'EOF' || fail "compare: results.json has no transient.external"
+import json, sys
+r = json.load(open(sys.argv[1]))
+ext = [res["transient"]["external"] for s in r["studies"] for res in s["resolutions"]
+       if "external" in res.get("transient", {})]
+assert len(ext) == 2 and ext[0]["solver"] == "fem-rod" and ext[0]["protocol"] == "mfv-external-1", ext
+EOF
+if python3 -c "import jsonschema" 2> /dev/null; then
+  python3 "$src/scripts/validate_json.py" results \
+    "$work/rep/results.json" > "$work/val.out" 2>&1 || { cat "$work/val.out"; fail "results.json invalid"; }
+fi
+ok
+
+cat > "$work/suite.toml" <<'EOF'
+[suite]
+name = "external"
+[[case]]
+id = "rod-pulse/external-fem-rod"
+problem = "rod-pulse"
+method = "external:fem-rod"
+nodes = [25, 49]
+[case.bands]
+l2_rel_finest = [0.0, 0.05]
+EOF
+"$mfv" verify "$work/suite.toml" > "$work/ver.out" 2>&1 || { cat "$work/ver.out"; fail "verify: exit $?"; }
+grep -q "PASS" "$work/ver.out" || { cat "$work/ver.out"; fail "verify: no PASS"; }
+ok
+
+# 2. Refusals.
+expect_exit() {  # expect_exit <code> <text> <command...>
+  local code=$1 text=$2
+  shift 2
+  "$@" > "$work/o" 2>&1
+  local rc=$?
+  [ $rc -eq "$code" ] || { cat "$work/o"; fail "$*: exit $rc, expected $code"; }
+  grep -q -- "$text" "$work/o" || { cat "$work/o"; fail "$*: no '$text' in the message"; }
+  ok
+}
+expect_exit 2 "supports rod-pulse, not problem 'oscillating-plate'" \
+  "$mfv" run oscillating-plate -m external:fem-rod -n 9
+expect_exit 2 "runs through the transient analysis only" "$mfv" run cantilever -m external:fem-rod -n 5
+expect_exit 2 "unknown parameter\|keep" "$mfv" run rod-pulse -m external:fem-rod -p keep=2 -n 25
+
+mkdir -p "$work/dup" "$work/bad"
+cp "$src/solvers/fem-rod.toml" "$work/dup/"
+expect_exit 2 "external solver 'fem-rod' is defined twice" env MFV_SOLVERS="$work/dup" "$mfv" list
+echo '[solver]
+command = "python3 x.py"
+problems = ["rod-pulse"]' > "$work/bad/bad.toml"
+expect_exit 2 "command must be an array of strings" env MFV_SOLVERS="$work/bad" "$mfv" list
+
+# 3. Broken solvers: a Python fake, broken as its argument says.
+mkdir -p "$work/fakes"
+cat > "$work/fakes/fake.py" <<'EOF'
+import json, os, sys, time
+mode, case = sys.argv[1], sys.argv[2]
+inp = json.load(open(os.path.join(case, "input.json")))
+n = inp["particles"]["count"]
+if mode == "sleep": time.sleep(60)
+if mode == "exit": sys.stderr.write("fake: diverged at step 7\n"); sys.exit(3)
+os.makedirs(os.path.join(case, "frames"))
+ix = open(os.path.join(case, "frames", "index.csv"), "w")
+ix.write("mfv-external-1\nk,time\n")
+for k, t in enumerate(inp["output_times"]):
+    if mode == "missing" and t == inp["checkpoints"][0]: continue
+    with open(os.path.join(case, "frames", f"frame-{k}.csv"), "w") as f:
+        f.write("id,ux,uy,vx,vy\n")
+        for i in range(n - (1 if mode == "count" else 0)):
+            f.write(f"{i},0,0,{'nan' if mode == 'nan' and i == 17 else 0},0\n")
+    ix.write(f"{k},{t!r}\n")
+EOF
+for mode in sleep exit missing nan count; do
+  printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = 2\n' \
+    "$mode" > "$work/fakes/fake-$mode.toml"
+done
+printf '[solver]\ncommand = ["mfv-no-such-solver"]\nproblems = ["rod-pulse"]\ninstall_hint = "apt install mfv-no-such-solver"\n' \
+  > "$work/fakes/absent.toml"
+export MFV_SOLVERS="$work/fakes"
+expect_exit 1 "did not finish within its timeout of 2 s" "$mfv" run rod-pulse -m external:fake-sleep -n 25
+expect_exit 1 "exited 3 after .*fake: diverged at step 7" "$mfv" run rod-pulse -m external:fake-exit -n 25
+expect_exit 1 "checkpoint t = 0.0115635 (frame [0-9]*) missing" "$mfv" run rod-pulse -m external:fake-missing -n 25
+expect_exit 1 "field vx is nan at particle 17" "$mfv" run rod-pulse -m external:fake-nan -n 25
+expect_exit 1 "74 particles in frame-0.csv, expected 75" "$mfv" run rod-pulse -m external:fake-count -n 25
+expect_exit 1 "not installed here: mfv-no-such-solver: no such program on PATH (install: apt install mfv-no-such-solver)" \
+  "$mfv" run rod-pulse -m external:absent -n 25
+# A broken solver beside a good one: the good study reports, the broken one fails with its reason.
+"$mfv" compare rod-pulse -m external:fem-rod -m external:fake-nan -n 25 > "$work/mix.out" 2>&1
+grep -q "could not run: external:fake-nan: .*field vx is nan at particle 17" "$work/mix.out" ||
+  { cat "$work/mix.out"; fail "compare with a broken solver: no reason"; }
+grep -qE "^\|  *75 \| *2.500e\+00 \| *[0-9.]+e-0[0-9] \|" "$work/mix.out" || { cat "$work/mix.out"; fail "compare: the good study did not report"; }
+ok
+# In a manifest: the broken case fails the run, with its reason.
+sed 's/external:fem-rod/external:fake-nan/; s/external-fem-rod/external-fake-nan/' "$work/suite.toml" > "$work/broken.toml"
+"$mfv" verify "$work/broken.toml" > "$work/vb.out" 2>&1
+rc=$?
+[ $rc -ne 0 ] || { cat "$work/vb.out"; fail "verify of a broken solver: exit 0"; }
+grep -q "field vx is nan at particle 17" "$work/vb.out" || { cat "$work/vb.out"; fail "verify: no reason"; }
+ok
+echo "PASS: $checks checks"
