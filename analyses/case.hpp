@@ -139,6 +139,7 @@ struct TransientData : AnalysisResult {
     std::string solver, command;
     double wall_seconds = 0, cpu_seconds = 0;
     int frames = 0;
+    long solver_steps = -1;  ///< the solver's own steps to its last frame (-1: not stated)
     std::string stdout_tail, stderr_tail;
   };
   std::optional<External> external;

@@ -432,6 +432,7 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   info.stderr_tail = file_tail(run.stderr_file);
   const std::vector<ExternalFrame> out_frames = read_case_output(dir.path, ec);
   info.frames = static_cast<int>(out_frames.size());
+  if (!out_frames.empty()) info.solver_steps = out_frames.back().steps;
   r.cpu.solve = run.cpu_seconds;
 
   td.main_error = def.main_error;
@@ -601,9 +602,12 @@ class TransientAnalysis final : public Analysis {
     const TransientData& t = r.data<TransientData>();
     out << fmt::format("dynamics  {}\n", t.dynamics);
     if (t.external) {
-      out << fmt::format("solver    {}: {:.2f} s wall, {:.2f} s CPU, {} frames to t = {:.6g}{}\n",
+      out << fmt::format("solver    {}: {:.2f} s wall, {:.2f} s CPU, {} frames to t = {:.6g}{}{}\n",
                          t.external->command, t.external->wall_seconds,
                          t.external->cpu_seconds, t.external->frames, t.end_time,
+                         t.external->solver_steps >= 0
+                             ? fmt::format(", {} solver steps", t.external->solver_steps)
+                             : "",
                          t.stopped_early ? " (the problem stopped the replay early)" : "");
     } else {
     out << fmt::format("steps     {} of dt {:.6g} ({:.3f} of the critical step {:.6g}) to t = "
@@ -629,10 +633,13 @@ class TransientAnalysis final : public Analysis {
                                             : shown(r.errors.l2_rel, "{:.6e}"));
     for (const auto& [k, v] : r.headline) out << fmt::format("{:<26} {}\n", k, shown(v, "{:.6g}"));
     if (t.external)
-      out << fmt::format("CPU       setup {:.4f} s, input {:.4f} s, solver {:.4f} s ({:.3g} "
-                         "particle-frames/s of output)\n",
+      out << fmt::format("CPU       setup {:.4f} s, input {:.4f} s, solver {:.4f} s ({})\n",
                          r.cpu.setup, r.cpu.assembly, r.cpu.solve,
-                         r.particles * double(t.external->frames) / std::max(r.cpu.solve, 1e-9));
+                         t.external->solver_steps >= 0
+                             ? fmt::format("{:.3g} particle-steps/s",
+                                           r.particles * double(t.external->solver_steps) /
+                                               std::max(r.cpu.solve, 1e-9))
+                             : std::string("the solver states no step count"));
     else
       out << fmt::format("CPU       setup {:.4f} s, engine {:.4f} s, time loop {:.4f} s "
                          "({:.3g} particle-steps/s)\n",

@@ -47,8 +47,12 @@ std::string fmt_headline(const std::string& name, double v, const TransientData&
 
 /// Particle-steps per second of the time loop's CPU time ("–" when it took none).
 std::string fmt_particle_steps(const CaseResult& r, const TransientData& t) {
-  // An external solver's steps are its own (t.steps counts the frames read back).
-  if (t.external) return "–";
+  // An external solver's steps are its own (t.steps counts the frames read back): known only
+  // when it states them (index.csv's steps column), over its CPU time.
+  if (t.external)
+    return t.external->solver_steps >= 0 && r.cpu.solve > 0
+               ? fmt_sci(r.particles * double(t.external->solver_steps) / r.cpu.solve, 2)
+               : "–";
   return r.cpu.solve > 0 ? fmt_sci(r.particles * double(t.steps) / r.cpu.solve, 2) : "–";
 }
 

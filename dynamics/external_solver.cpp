@@ -417,16 +417,26 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
     throw ExternalSolverError(fmt::format("frames/index.csv: first line '{}', expected the "
                                           "protocol '{}'",
                                           line.substr(0, 60), kExternalProtocol));
-  std::map<std::size_t, double> written;
+  // "k,time", or "k,time,steps" with the solver's steps from t = 0 to the frame (optional:
+  // the report's particle-steps per second).
+  std::map<std::size_t, std::pair<double, long>> written;
+  bool with_steps = false;
   for (int ln = 2; std::getline(in, line); ++ln) {
-    if (line.empty() || line == "k,time") continue;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty()) continue;
+    if (line == "k,time" || line == "k,time,steps") {
+      with_steps = line == "k,time,steps";
+      continue;
+    }
     const auto f = split_csv(line);
-    double k = 0, t = 0;
-    if (f.size() != 2 || !parse_number(f[0], k) || !parse_number(f[1], t) || k < 0 ||
-        k != std::floor(k))
-      throw ExternalSolverError(
-          fmt::format("frames/index.csv line {}: '{}' is not 'k,time'", ln, line.substr(0, 60)));
-    written[static_cast<std::size_t>(k)] = t;
+    const std::string form = with_steps ? "k,time,steps" : "k,time";
+    double k = 0, t = 0, steps = -1;
+    if (f.size() != (with_steps ? 3u : 2u) || !parse_number(f[0], k) || !parse_number(f[1], t) ||
+        k < 0 || k != std::floor(k) ||
+        (with_steps && (!parse_number(f[2], steps) || steps < 0 || steps != std::floor(steps))))
+      throw ExternalSolverError(fmt::format("frames/index.csv line {}: '{}' is not '{}'", ln,
+                                            line.substr(0, 60), form));
+    written[static_cast<std::size_t>(k)] = {t, static_cast<long>(steps)};
   }
   const int n = static_cast<int>(c.x.cols());
   const char* axes[] = {"x", "y", "z"};
@@ -446,10 +456,10 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
           "{} missing: {}", what,
           w == written.end() ? "not in frames/index.csv" : "no " + file.filename().string()));
     const double t = c.output_times[k];
-    if (!(std::abs(w->second - t) <= 1e-9 * std::max(1.0, std::abs(t))))
+    if (!(std::abs(w->second.first - t) <= 1e-9 * std::max(1.0, std::abs(t))))
       throw ExternalSolverError(fmt::format("{}: the solver wrote it at t = {:.9g}, not at the "
                                             "requested time",
-                                            what, w->second));
+                                            what, w->second.first));
     std::ifstream f(file);
     std::getline(f, line);
     const auto header = split_csv(line);
@@ -463,6 +473,7 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
                                         [&](const std::string& s) { return col.count(s) != 0; });
     ExternalFrame fr;
     fr.time = t;
+    fr.steps = w->second.second;
     fr.u = Eigen::MatrixXd::Constant(c.dim, n, std::nan(""));
     fr.v = fr.u;
     if (has_stress)

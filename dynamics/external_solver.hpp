@@ -134,10 +134,12 @@ std::optional<std::string> solver_missing(const SolverSpec& spec);
 /// Cauchy stress in Voigt order (xx, yy, xy in 2D; 1 × N in 1D) when the solver wrote it.
 struct ExternalFrame {
   double time = 0;
+  long steps = -1;  ///< the solver's steps from t = 0 (index.csv's optional column; -1: not given)
   Eigen::MatrixXd x, u, v, stress;
 };
 
-/// Reads dir/frames/: index.csv (the protocol line, then "k,time" for each frame written)
+/// Reads dir/frames/: index.csv (the protocol line, the header "k,time" or "k,time,steps",
+/// then a row for each frame written)
 /// and frame-<k>.csv with the header id,ux,uy,vx,vy[,sxx,syy,sxy] (1D: id,ux,vx[,sxx]).
 /// Every output time must have its frame, at its time within 1e-9 relative, every particle
 /// exactly once, every value finite; ExternalSolverError names the first that is not

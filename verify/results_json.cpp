@@ -338,6 +338,7 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
                                       {"wall_seconds", t->external->wall_seconds},
                                       {"cpu_seconds", t->external->cpu_seconds},
                                       {"frames", t->external->frames},
+                                      {"solver_steps", t->external->solver_steps},
                                       {"stdout_tail", t->external->stdout_tail},
                                       {"stderr_tail", t->external->stderr_tail}};
     const FigureData* fig = r.find<FigureData>();

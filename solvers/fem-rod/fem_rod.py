@@ -46,7 +46,8 @@ t = 0.0
 a = [fi / mi for fi, mi in zip(force(u), m)]
 os.makedirs(os.path.join(case, "frames"))
 index = open(os.path.join(case, "frames", "index.csv"), "w")
-index.write("mfv-external-1\nk,time\n")
+index.write("mfv-external-1\nk,time,steps\n")  # steps: optional, for particle-steps/s
+count = 0
 for k, t_out in enumerate(inp["output_times"]):
     steps = max(1, math.ceil((t_out - t) / dt_max - 1e-9))
     dt = (t_out - t) / steps
@@ -58,6 +59,7 @@ for k, t_out in enumerate(inp["output_times"]):
         a = [fi / mi for fi, mi in zip(force(u), m)]
         v = [vi + 0.5 * dt * ai for vi, ai in zip(vh, a)]
         t += dt
+        count += 1
         for i, (val, until) in fixed.items():
             v[i] = val if t < until else v[i]
     t = t_out
@@ -69,5 +71,5 @@ for k, t_out in enumerate(inp["output_times"]):
             el = [e for e in (i - 1, i) if 0 <= e < n - 1]
             sxx = sum(E * (u[e + 1] - u[e]) / h for e in el) / len(el)
             out.write(f"{p['id']},{u[i]!r},0,{v[i]!r},0,{sxx!r},0,0\n")
-    index.write(f"{k},{t_out!r}\n")
+    index.write(f"{k},{t_out!r},{count}\n")
 index.close()

@@ -83,7 +83,7 @@ times = [float(t) for t in inp["output_times"]]
 dt = min(cfl * h / c_p, min(np.diff([0.0] + times)))
 os.makedirs(os.path.join(case, "frames"))
 index = open(os.path.join(case, "frames", "index.csv"), "w")
-index.write("mfv-external-1\nk,time\n")
+index.write("mfv-external-1\nk,time,steps\n")
 print(f"PySPH ElasticSolidsScheme: dx = {dx:.6g}, h = {h_over_dx} dx, dt = {dt:.6g} "
       f"({cfl} h / c_p, c_p = {c_p:.6g}), {n} particles, {int(clamped.sum())} clamped "
       f"(clamp = {clamp}), alpha = {par.get('alpha', 1.0)}, beta = {par.get('beta', 1.0)}, "
@@ -151,7 +151,7 @@ class MfvCase(Application):
                     out.write("{:d},{!r},{!r},{!r},{!r},{!r},{!r},{!r}\n".format(
                         int(pa.mfv_id[j]), pa.x[j] - pa.mfv_x0[j], pa.y[j] - pa.mfv_y0[j], pa.u[j],
                         pa.v[j], pa.s00[j] - pa.p[j], pa.s11[j] - pa.p[j], pa.s01[j]))
-        index.write(f"{k},{times[k]!r}\n")
+        index.write(f"{k},{times[k]!r},{solver.count + 1}\n")
         index.flush()
 
 
