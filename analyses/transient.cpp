@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 
@@ -303,14 +302,6 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
 }
 
 namespace {
-
-/// The last `bytes` of a file (a solver's stdout or stderr), for the report.
-std::string file_tail(const std::filesystem::path& file, std::size_t bytes = 2000) {
-  std::ifstream in(file, std::ios::binary);
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
-  return s;
-}
 
 /// The case directory of an external run: removed afterwards unless kept.
 struct CaseDirectory {

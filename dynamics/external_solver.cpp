@@ -30,6 +30,13 @@ namespace mfv {
 
 namespace fs = std::filesystem;
 
+std::string file_tail(const fs::path& file, std::size_t bytes) {
+  std::ifstream in(file, std::ios::binary);
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
+  return s;
+}
+
 bool SolverSpec::supports(const std::string& problem) const {
   return std::find(problems.begin(), problems.end(), problem) != problems.end();
 }
@@ -70,9 +77,7 @@ std::string substitute_dir(std::string s, const fs::path& dir) {
 }
 
 std::string tail_of(const fs::path& file, std::size_t bytes = 1500) {
-  std::ifstream in(file, std::ios::binary);
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
+  std::string s = file_tail(file, bytes);
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
   return s;
 }

@@ -111,6 +111,10 @@ struct ExternalCase {
 /// (std::runtime_error otherwise): a solver never sees an earlier run's files.
 void write_case_input(const std::filesystem::path& dir, const ExternalCase& c);
 
+/// The last `bytes` of a file, "…" in front when cut (a solver's stdout or stderr, for the
+/// report and for failure messages); "" for a file that cannot be read.
+std::string file_tail(const std::filesystem::path& file, std::size_t bytes = 2000);
+
 /// How a run went (the solver's exit, its time, its output logs).
 struct SolverRun {
   int exit_code = 0;
