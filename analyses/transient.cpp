@@ -324,9 +324,10 @@ struct CaseDirectory {
 /// the protocol's input (dynamics/external_solver.hpp), the solver runs once, and its frames
 /// are replayed, in time order, through the problem's own measurements — checkpoints, probes,
 /// trace, VTK frames, finish — on a state whose particle values are the solver's fields (an
-/// SPH engine holds them; it is never stepped). Energies other than the kinetic one are the
-/// solver's business and are not measured: their columns are NaN and the energy drift is not
-/// a headline.
+/// SPH engine holds them; it is never stepped). The energy balance is the solver's own account
+/// (frames/energy.csv: kinetic energy, internal and external work from t = 0), judged as mfv's
+/// engine's is: the same drift, scale and drift_bound; a solver that keeps no account has NaN
+/// work columns and no energy-drift headline.
 void run_external(const ExternalSolverMethod& ext, const TransientProblem& problem,
                   const AnalysisContext& c, const Params& dynamics, CaseResult& r) {
   const SolverSpec& spec = ext.spec();
@@ -424,6 +425,7 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   const std::vector<ExternalFrame> out_frames = read_case_output(dir.path, ec);
   info.frames = static_cast<int>(out_frames.size());
   if (!out_frames.empty()) info.solver_steps = out_frames.back().steps;
+  const std::optional<ExternalEnergy> energy = read_case_energy(dir.path, ec);
   r.cpu.solve = run.cpu_seconds;
 
   td.main_error = def.main_error;
@@ -440,8 +442,18 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   for (const auto& n : def.probe_names) td.history_columns.push_back(n);
   TransientMeasures m;
   TransientOutcome outcome;
+  // The balance of the solver's own account, K + W_int − W_ext against its t = 0 value (mfv's
+  // EnergyBalance::balance()); without an account, the kinetic energy of the frames' velocities
+  // with mfv's masses.
+  auto balance_at = [&](double t) -> std::array<double, 4> {
+    if (!energy) return {state.kinetic_energy(), NAN, NAN, NAN};
+    const auto [k, wi, we] = energy->at(t);
+    const double e0 = energy->kinetic[0] + energy->internal_work[0] - energy->external_work[0];
+    return {k, wi, we, k + wi - we - e0};
+  };
   auto record = [&]() {
-    std::vector<double> row{state.time(), state.kinetic_energy(), NAN, NAN, NAN};
+    const auto e = balance_at(state.time());
+    std::vector<double> row{state.time(), e[0], e[1], e[2], e[3]};
     if (def.probes)
       for (double v : def.probes(state)) row.push_back(v);
     td.history.push_back(std::move(row));
@@ -480,6 +492,33 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   }
   td.steps = done;
   td.stopped_early = done < static_cast<long>(out_frames.size());
+  if (energy) {
+    // mfv's drift (run_loop): the largest |balance| over the account's rows, over the largest
+    // of |E₀|, the kinetic energy and |W_ext|; judged by drift_bound on runs of kMinDriftSteps
+    // solver steps or more (or of unstated length).
+    const double e0 = energy->kinetic[0] + energy->internal_work[0] - energy->external_work[0];
+    double worst = 0, worst_time = 0, scale = std::abs(e0);
+    for (std::size_t i = 0; i < energy->time.size(); ++i) {
+      scale = std::max({scale, energy->kinetic[i], std::abs(energy->external_work[i])});
+      const double b =
+          std::abs(energy->kinetic[i] + energy->internal_work[i] - energy->external_work[i] - e0);
+      if (b > worst) worst = b, worst_time = energy->time[i];
+    }
+    const double drift = scale > 0 ? worst / scale : 0.0;
+    m.headline["energy drift"] = drift;
+    const double drift_bound = dynamics.number("drift_bound");
+    if (!td.instability && (info.solver_steps < 0 || info.solver_steps >= kMinDriftSteps) &&
+        drift > drift_bound)
+      td.instability = TransientData::Instability{
+          done, worst_time,
+          fmt::format("the solver's energy balance (frames/energy.csv) drifted by {:.3g} of the "
+                      "run's energy, above the bound {:g} (drift_bound), largest at t = {:.6g}",
+                      drift, drift_bound, worst_time)};
+    td.dynamics += fmt::format("; energy balance from the solver's account ({} rows)",
+                               energy->time.size());
+  } else {
+    td.dynamics += "; no energy account from the solver (frames/energy.csv): drift not measured";
+  }
   td.external = std::move(info);
   outcome.dt = def.end_time / static_cast<double>(out_frames.size());
   outcome.dt_critical = NAN;

@@ -10,6 +10,7 @@
 
 #include "reports/atomic.hpp"
 #include "dynamics/external_solver.hpp"
+#include "analyses/external_comparison.hpp"
 #include "analyses/transient.hpp"
 #include "reports/markdown.hpp"
 #include "reports/plot.hpp"
@@ -19,6 +20,17 @@
 namespace mfv {
 
 namespace fs = std::filesystem;
+
+// Declared in analyses/external_comparison.hpp (the external-solver page prints it too).
+std::string fmt_particle_steps(const CaseResult& r, const TransientData& t) {
+  // An external solver's steps are its own (t.steps counts the frames read back): known only
+  // when it states them (index.csv's steps column), over its CPU time.
+  if (t.external)
+    return t.external->solver_steps >= 0 && r.cpu.solve > 0
+               ? fmt_sci(r.particles * double(t.external->solver_steps) / r.cpu.solve, 2)
+               : "–";
+  return r.cpu.solve > 0 ? fmt_sci(r.particles * double(t.steps) / r.cpu.solve, 2) : "–";
+}
 
 namespace {
 
@@ -43,17 +55,6 @@ std::string fmt_headline(const std::string& name, double v, const TransientData&
   if (t.stopped_early && name.rfind("peak", 0) == 0)
     return fmt::format("≥ {} (stopped early)", fmt_value(v));
   return fmt_value(v);
-}
-
-/// Particle-steps per second of the time loop's CPU time ("–" when it took none).
-std::string fmt_particle_steps(const CaseResult& r, const TransientData& t) {
-  // An external solver's steps are its own (t.steps counts the frames read back): known only
-  // when it states them (index.csv's steps column), over its CPU time.
-  if (t.external)
-    return t.external->solver_steps >= 0 && r.cpu.solve > 0
-               ? fmt_sci(r.particles * double(t.external->solver_steps) / r.cpu.solve, 2)
-               : "–";
-  return r.cpu.solve > 0 ? fmt_sci(r.particles * double(t.steps) / r.cpu.solve, 2) : "–";
 }
 
 /// "unstable at step 9, t = 0.0018" or "ran to the end".
@@ -316,8 +317,10 @@ std::string write_transient_section(const Registries& catalogue, const ReportSec
                              fenced(e->stderr_tail));
     if (!ext.empty())
       page.errors += "**External solvers.** Their frames were replayed through this problem's "
-                     "measurements (protocol: docs/external-solvers.md in mfv's sources); energies other than "
-                     "the kinetic one are the solver's and are not measured.\n\n" + ext + "\n";
+                     "measurements (protocol: docs/external-solvers.md in mfv's sources); the "
+                     "energy balance is the solver's own account (frames/energy.csv), not "
+                     "measured when it keeps none. Beside mfv's methods: "
+                     "[external.md](../external.md).\n\n" + ext + "\n";
   }
   page.errors += frame_comparison(section.studies);
 

@@ -23,6 +23,7 @@
 #include "reports/convergence_table.hpp"
 #include "reports/markdown.hpp"
 #include "analyses/report_section.hpp"
+#include "analyses/external_comparison.hpp"
 #include "analyses/kernel_comparison.hpp"
 #include "analyses/case_vtk.hpp"
 #include "methods/core/clock.hpp"
@@ -255,6 +256,13 @@ void write_report(const Catalogue& c, StagedDirectory& staged, const std::string
     md += fmt::format("**Kernels compared**: [kernels.md](kernels.md), {} table(s) of the same "
                       "problem and method under different kernels.\n\n",
                       comparisons.size());
+  }
+  // External solvers beside mfv's methods, across problems (issue 30).
+  if (const TextTable ext = external_comparison(sections); !ext.rows.empty()) {
+    write_file_atomic(staged.path() / "external.md", external_comparison_page(ext));
+    md += fmt::format("**External solvers beside mfv**: [external.md](external.md), {} row(s): "
+                      "each problem an external solver ran, every method at its resolutions.\n\n",
+                      ext.rows.size());
   }
   md += body;
   for (const auto& [name, content] : files) write_file_atomic(staged.path() / name, content);

@@ -528,6 +528,83 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
   return out;
 }
 
+std::array<double, 3> ExternalEnergy::at(double t) const {
+  const std::size_t n = time.size();
+  if (n == 0) return {NAN, NAN, NAN};
+  std::size_t hi = std::upper_bound(time.begin(), time.end(), t) - time.begin();
+  if (hi == 0) return {kinetic.front(), internal_work.front(), external_work.front()};
+  if (hi == n) return {kinetic.back(), internal_work.back(), external_work.back()};
+  const std::size_t lo = hi - 1;
+  const double w = (t - time[lo]) / (time[hi] - time[lo]);
+  auto lerp = [&](const std::vector<double>& v) { return v[lo] + w * (v[hi] - v[lo]); };
+  return {lerp(kinetic), lerp(internal_work), lerp(external_work)};
+}
+
+std::optional<ExternalEnergy> read_case_energy(const fs::path& dir, const ExternalCase& c) {
+  const fs::path file = dir / "frames" / "energy.csv";
+  if (!fs::exists(file)) return std::nullopt;
+  std::ifstream in(file);
+  std::string line;
+  if (!in || !std::getline(in, line))
+    throw ExternalSolverError("frames/energy.csv cannot be read (or is empty)");
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  if (line != kExternalProtocol)
+    throw ExternalSolverError(fmt::format("frames/energy.csv: first line '{}', expected the "
+                                          "protocol '{}'",
+                                          line.substr(0, 60), kExternalProtocol));
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  const auto header = split_csv(line);
+  std::map<std::string, int> col;
+  for (int i = 0; i < static_cast<int>(header.size()); ++i) col[header[i]] = i;
+  for (const char* need : {"time", "kinetic", "internal_work"})
+    if (!col.count(need))
+      throw ExternalSolverError(fmt::format("frames/energy.csv: no column '{}' (header: '{}'; "
+                                            "expected time,kinetic,internal_work[,external_work])",
+                                            need, line.substr(0, 80)));
+  const bool with_external = col.count("external_work") != 0;
+  ExternalEnergy e;
+  for (int ln = 3; std::getline(in, line); ++ln) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty()) continue;
+    const auto v = split_csv(line);
+    if (v.size() != header.size())
+      throw ExternalSolverError(fmt::format("frames/energy.csv line {} has {} fields, the "
+                                            "header {}",
+                                            ln, v.size(), header.size()));
+    auto field = [&](const char* name) {
+      double x = 0;
+      const std::string& text = v[col[name]];
+      if (!parse_number(text, x) || !std::isfinite(x))
+        throw ExternalSolverError(fmt::format("frames/energy.csv line {}: field {} is {}", ln,
+                                              name, text.empty() ? "empty" : text));
+      return x;
+    };
+    const double t = field("time");
+    if (!e.time.empty() && !(t > e.time.back()))
+      throw ExternalSolverError(fmt::format("frames/energy.csv line {}: time {:.9g} is not "
+                                            "after the previous row's {:.9g}",
+                                            ln, t, e.time.back()));
+    e.time.push_back(t);
+    e.kinetic.push_back(field("kinetic"));
+    e.internal_work.push_back(field("internal_work"));
+    e.external_work.push_back(with_external ? field("external_work") : 0.0);
+  }
+  const double tol = 1e-9 * std::max(1.0, c.end_time);
+  if (e.time.empty())
+    throw ExternalSolverError("frames/energy.csv has a header and no rows");
+  if (std::abs(e.time.front()) > tol)
+    throw ExternalSolverError(fmt::format("frames/energy.csv starts at t = {:.9g}, not at "
+                                          "t = 0: the balance is measured from the start",
+                                          e.time.front()));
+  const double last = c.output_times.empty() ? 0.0 : c.output_times.back();
+  if (e.time.back() < last - tol)
+    throw ExternalSolverError(fmt::format("frames/energy.csv ends at t = {:.9g}, before the "
+                                          "last output time {:.9g}",
+                                          e.time.back(), last));
+  return e;
+}
+
 Discretization ExternalSolverMethod::discretize(const Domain&, ParticleSet, int) const {
   throw InputError(fmt::format(
       "method 'external:{}' is an external solver: it runs through the transient analysis "

@@ -16,6 +16,7 @@
 /// Nothing here knows a problem: the transient analysis fills an ExternalCase from its
 /// definition and replays the frames through the problem's own measurements.
 #pragma once
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -151,6 +152,26 @@ struct ExternalFrame {
 /// particle 17", "frame 0: 120 particles, expected 121").
 std::vector<ExternalFrame> read_case_output(const std::filesystem::path& dir,
                                             const ExternalCase& c);
+
+/// The solver's own energy account, frames/energy.csv (optional): the protocol line, a header
+/// naming `time`, `kinetic`, `internal_work` and optionally `external_work` (other columns are
+/// ignored), then rows from t = 0 to at least the last output time, times increasing, every
+/// value finite. internal_work is the work the solver's internal forces (stress, artificial
+/// viscosity, ...) did since t = 0, external_work the work loads and prescribed motions did on
+/// the body; the balance K + W_int − W_ext stays at its t = 0 value for a conservative scheme,
+/// as mfv's own (dynamics/explicit.hpp, EnergyBalance).
+struct ExternalEnergy {
+  std::vector<double> time, kinetic, internal_work, external_work;
+  /// kinetic, internal_work, external_work at time t, linear between the rows (t clamped to
+  /// the rows' range).
+  std::array<double, 3> at(double t) const;
+};
+
+/// Reads dir/frames/energy.csv: std::nullopt when the solver wrote none; ExternalSolverError
+/// naming the line and the field for anything else that is not as above ("frames/energy.csv
+/// line 7: field kinetic is nan", "... ends at t = 0.5, before the last output time 1").
+std::optional<ExternalEnergy> read_case_energy(const std::filesystem::path& dir,
+                                               const ExternalCase& c);
 
 /// The method `external:<name>`: an external solver as a choice of `-m` and of a manifest's
 /// `method`. It has no shape functions of its own: discretize() refuses (InputError naming

@@ -29,6 +29,13 @@ ok
 "$mfv" compare rod-pulse -m sph -m external:fem-rod -n 25,49 -r "$work/rep" > "$work/cmp.out" 2>&1 ||
   { cat "$work/cmp.out"; fail "compare: exit $?"; }
 grep -rq "External solvers" "$work/rep" || fail "compare: no 'External solvers' section in the report"
+# The page beside mfv's methods: sph and fem-rod at both resolutions, fem-rod's energy drift
+# from its own account (frames/energy.csv), linked from the index.
+[ "$(grep -c '^| rod-pulse ' "$work/rep/external.md")" = 4 ] ||
+  { cat "$work/rep/external.md"; fail "compare: external.md has not 4 rows"; }
+grep -qE '^\| rod-pulse \| +49 \| external:fem-rod \| velocity error at 2L/c [0-9.e-]+; velocity error at L/c [0-9.e-]+ +\| +0\.00[0-9]+ \|' \
+  "$work/rep/external.md" || { cat "$work/rep/external.md"; fail "compare: fem-rod's row"; }
+grep -q '(external.md)' "$work/rep/index.md" || fail "compare: index.md does not link external.md"
 python3 - "$work/rep/results.json" <<'EOF' || fail "compare: results.json has no transient.external"
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -99,8 +106,13 @@ for k, t in enumerate(inp["output_times"]):
         for i in range(n - (1 if mode == "count" else 0)):
             f.write(f"{i},0,0,{'nan' if mode == 'nan' and i == 17 else 0},0\n")
     ix.write(f"{k},{t!r}\n")
+if mode in ("energy-nan", "drift"):  # an energy account: broken, or one that does not balance
+    end = inp["output_times"][-1]
+    with open(os.path.join(case, "frames", "energy.csv"), "w") as f:
+        f.write("mfv-external-1\ntime,kinetic,internal_work\n0,1,0\n")
+        f.write(f"{end / 2!r},{'nan' if mode == 'energy-nan' else 1},1\n{end!r},1,2\n")
 EOF
-for mode in sleep exit missing nan count; do
+for mode in sleep exit missing nan count energy-nan drift; do
   printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = 2\n' \
     "$mode" > "$work/fakes/fake-$mode.toml"
 done
@@ -112,6 +124,9 @@ expect_exit 1 "exited 3 after .*fake: diverged at step 7" "$mfv" run rod-pulse -
 expect_exit 1 "checkpoint t = 0.0115635 (frame [0-9]*) missing" "$mfv" run rod-pulse -m external:fake-missing -n 25
 expect_exit 1 "field vx is nan at particle 17" "$mfv" run rod-pulse -m external:fake-nan -n 25
 expect_exit 1 "74 particles in frame-0.csv, expected 75" "$mfv" run rod-pulse -m external:fake-count -n 25
+expect_exit 1 "frames/energy.csv line 4: field kinetic is nan" "$mfv" run rod-pulse -m external:fake-energy-nan -n 25
+expect_exit 1 "energy balance (frames/energy.csv) drifted by 2 of the run's energy" \
+  "$mfv" run rod-pulse -m external:fake-drift -n 25
 expect_exit 1 "not installed here: mfv-no-such-solver: no such program on PATH (install: apt install mfv-no-such-solver)" \
   "$mfv" run rod-pulse -m external:absent -n 25
 # A broken solver beside a good one: the good study reports, the broken one fails with its reason.

@@ -246,6 +246,64 @@ TEST(ExternalSolver, TheProtocolExampleRunsTheRodPulse) {
   }
   EXPECT_LT(std::sqrt(err / norm), 0.05);
   EXPECT_TRUE(frames[2].stress.allFinite());
+  // Its energy account: the kinetic energy and the elements' work, conserved by central
+  // differences to well under a per cent (K + W_int against its t = 0 value).
+  const auto energy = read_case_energy(t.path / "case", rod);
+  ASSERT_TRUE(energy.has_value());
+  ASSERT_EQ(energy->time.size(), 4u);
+  const double e0 = energy->kinetic[0];
+  EXPECT_GT(e0, 0);
+  for (std::size_t i = 0; i < energy->time.size(); ++i)
+    EXPECT_LT(std::abs(energy->kinetic[i] + energy->internal_work[i] - e0), 1e-3 * e0) << i;
+  EXPECT_GT(energy->internal_work[1], 0.1 * e0);  // a quarter transit in: strain energy held
+}
+
+/// Reads `text` as frames/energy.csv of a case whose last output time is 1.
+std::string energy_message(const std::string& text) {
+  TempDir t;
+  ExternalCase c;
+  c.output_times = {0.5, 1.0};
+  c.end_time = 1.0;
+  write(t.path / "frames" / "energy.csv", text);
+  return message_of([&] { read_case_energy(t.path, c); });
+}
+
+TEST(ExternalSolver, TheEnergyAccountIsOptionalAndChecked) {
+  TempDir t;
+  ExternalCase c;
+  c.output_times = {0.5, 1.0};
+  c.end_time = 1.0;
+  EXPECT_FALSE(read_case_energy(t.path, c).has_value());  // none written: not measured
+  const std::string head = "mfv-external-1\ntime,kinetic,internal_work\n";
+  EXPECT_EQ(energy_message(head + "0,2,0\n1,1,1\n"), "(no exception)");
+  EXPECT_NE(energy_message("mfv-external-0\n" + head.substr(15) + "0,2,0\n1,1,1\n")
+                .find("expected the protocol"),
+            std::string::npos);
+  EXPECT_NE(energy_message("mfv-external-1\ntime,kinetic\n0,2\n1,1\n")
+                .find("no column 'internal_work'"),
+            std::string::npos);
+  EXPECT_NE(energy_message(head + "0,2,0\n0.5,nan,1\n1,1,1\n")
+                .find("line 4: field kinetic is nan"),
+            std::string::npos);
+  EXPECT_NE(energy_message(head + "0.1,2,0\n1,1,1\n").find("not at t = 0"), std::string::npos);
+  EXPECT_NE(energy_message(head + "0,2,0\n0.5,1,1\n").find("before the last output time"),
+            std::string::npos);
+  EXPECT_NE(energy_message(head + "0,2,0\n0.5,1,1\n0.5,1,1\n1,1,1\n")
+                .find("is not after the previous row's"),
+            std::string::npos);
+  EXPECT_NE(energy_message(head + "0,2\n1,1,1\n").find("line 3 has 2 fields"),
+            std::string::npos);
+  // Columns by name, in any order, external work optional; values linear between rows.
+  write(t.path / "frames" / "energy.csv",
+        "mfv-external-1\nexternal_work,internal_work,time,kinetic,extra\n0,0,0,2,x\n"
+        "1,2,1,1,y\n");
+  const auto e = read_case_energy(t.path, c);
+  ASSERT_TRUE(e.has_value());
+  const auto mid = e->at(0.25);
+  EXPECT_DOUBLE_EQ(mid[0], 1.75);
+  EXPECT_DOUBLE_EQ(mid[1], 0.5);
+  EXPECT_DOUBLE_EQ(mid[2], 0.25);
+  EXPECT_DOUBLE_EQ(e->at(7.0)[0], 1.0);  // clamped to the rows' range
 }
 
 }  // namespace

@@ -14,7 +14,13 @@ mfv runs `/usr/bin/python3 pysph_adapter.py DIR`. The adapter:
    Jaumann rotation, Monaghan artificial viscosity and artificial stress, XSPH) with a fixed
    step, landing on every output time (PySPH's output_at_times);
 4. writes DIR/frames/index.csv and one frames/frame-<k>.csv per output time (u = x - X,
-   PySPH's velocities u, v, and the Cauchy stress s - p I).
+   PySPH's velocities u, v, and the Cauchy stress s - p I);
+5. keeps an energy account, DIR/frames/energy.csv, a row per step: the kinetic energy and
+   the work of PySPH's forces (stress, artificial viscosity and stress: its accelerations
+   au, av at the step's corrector) over the particles' displacements (x - x0, which XSPH
+   moves), summed over the particles that move. PySPH's own EnergyEquationWithStress is not
+   used: ElasticSolidsScheme does not include it, and in PySPH 1.0b1 its pairwise term
+   lacks the factor v_ij . grad W_ij (it computes vijdotdwij and does not use it).
 
 Prescribed velocities other than such a clamp (the rod's rectangular impulse) are not PySPH's
 and are refused with a reason. The scheme's settings are printed to stdout (the report keeps
@@ -84,6 +90,9 @@ dt = min(cfl * h / c_p, min(np.diff([0.0] + times)))
 os.makedirs(os.path.join(case, "frames"))
 index = open(os.path.join(case, "frames", "index.csv"), "w")
 index.write("mfv-external-1\nk,time,steps\n")
+energy = open(os.path.join(case, "frames", "energy.csv"), "w")
+energy.write("mfv-external-1\ntime,kinetic,internal_work\n")
+energy.write(f"0,{0.5 * float(np.sum(mass * (vx0 ** 2 + vy0 ** 2)))!r},0\n")
 print(f"PySPH ElasticSolidsScheme: dx = {dx:.6g}, h = {h_over_dx} dx, dt = {dt:.6g} "
       f"({cfl} h / c_p, c_p = {c_p:.6g}), {n} particles, {int(clamped.sum())} clamped "
       f"(clamp = {clamp}), alpha = {par.get('alpha', 1.0)}, beta = {par.get('beta', 1.0)}, "
@@ -129,6 +138,13 @@ class MfvCase(Application):
 
     def post_step(self, solver):
         # Called after the integrator's step and before the solver adds dt to t.
+        # The work of the step's forces on the particles that move: PySPH's corrector moved
+        # them by x - x0 under the accelerations au, av it left in the arrays.
+        for pa in self.particles:
+            if pa.name == "solid":
+                free = pa.mfv_held < 0.5
+                self.w_int -= float(np.sum(pa.m[free] * (pa.au[free] * (pa.x[free] - pa.x0[free]) +
+                                                          pa.av[free] * (pa.y[free] - pa.y0[free]))))
         if clamp == "held":
             for pa in self.particles:
                 if pa.name == "solid":
@@ -138,6 +154,9 @@ class MfvCase(Application):
                     pa.u[hold] = 0.0
                     pa.v[hold] = 0.0
         t = solver.t + solver.dt
+        kinetic = sum(0.5 * float(np.sum(pa.m * (pa.u ** 2 + pa.v ** 2)))
+                      for pa in self.particles if pa.name == "solid")
+        energy.write(f"{t!r},{kinetic!r},{self.w_int!r}\n")
         while self.next < len(times) and abs(t - times[self.next]) <= 1e-9 * max(
                 1.0, abs(times[self.next])):
             self.write_frame(self.next, solver)
@@ -157,8 +176,10 @@ class MfvCase(Application):
 
 app = MfvCase(fname="mfv", output_dir=os.path.join(case, "pysph"))
 app.next = 0
+app.w_int = 0.0
 app.run(["--disable-output", "-q"])
 index.close()
+energy.close()
 if app.next < len(times):
     sys.exit(f"PySPH stopped at t = {app.solver.t:.9g} before output time {times[app.next]!r}")
 print(f"PySPH: {app.solver.count} steps to t = {app.solver.t:.9g}", flush=True)
