@@ -85,10 +85,12 @@ class OscillatingPlate final : public TransientProblem {
     const double dx = kThickness / (nodes - 1);
     const double columns = clamp_ / dx;
     if (std::abs(columns - std::round(columns)) > 1e-9 || std::round(columns) < 1)
-      throw InputError(fmt::format("oscillating-plate: the clamp ({:g} m) is {:.4g} spacings at "
-                                   "nodes = {}; it must be a whole number >= 1 (with the default "
-                                   "0.015 m: nodes = 4k + 1, e.g. 5, 9, 13, 17, 21)",
-                                   clamp_, columns, nodes));
+      throw InputError(fmt::format(
+          "oscillating-plate: the clamp ({:g} m) is {:.4g} spacings at nodes = {}; it must be a "
+          "whole number >= 1: use --problem-params clamp={:.12g} ({} spacings) at this "
+          "resolution, or nodes = 4k + 1 (5, 9, 13, 17, 21) with the default 0.015 m",
+          clamp_, columns, nodes, std::max(1.0, std::ceil(columns)) * dx,
+          std::max(1.0, std::ceil(columns))));
     return rectangle_lattice(domain(), 10 * (nodes - 1) + 1 + std::lround(columns), nodes,
                              Placement::boundary, perturbation);
   }
