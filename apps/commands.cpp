@@ -18,6 +18,7 @@
 #include <fmt/ostream.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/measurement_error.hpp"
 #include "methods/core/names.hpp"
 #include "reports/atomic.hpp"
 #include "reports/convergence_table.hpp"
@@ -579,6 +580,12 @@ int command_compare(const Catalogue& c, const CompareOptions& o, std::ostream& o
       failures.push_back(fmt::format("{}: {}", label, e.what()));
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, specs.size(), label,
                               e.what());
+    } catch (const MeasurementError& e) {
+      // The run ended but its measurement could not be taken (a period without two
+      // crossings): this study fails with the reason; the others still run.
+      failures.push_back(fmt::format("{}: {}", label, e.what()));
+      progress << fmt::format("[{}/{}] {}: could not measure: {}\n", k + 1, specs.size(), label,
+                              e.what());
     } catch (const ExternalSolverError& e) {
       // An external solver that failed, timed out or wrote a broken frame: this study fails
       // with the reason; the others still run.
@@ -834,6 +841,10 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       oc.error = e.what();
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,
                               e.what());
+    } catch (const MeasurementError& e) {
+      oc.error = e.what();
+      progress << fmt::format("[{}/{}] {}: could not measure: {}\n", k + 1, selected.size(),
+                              mc.id, e.what());
     } catch (const ExternalSolverError& e) {
       oc.error = e.what();
       progress << fmt::format("[{}/{}] {}: could not run: {}\n", k + 1, selected.size(), mc.id,

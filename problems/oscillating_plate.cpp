@@ -22,6 +22,7 @@
 
 #include <fmt/format.h>
 
+#include "methods/core/measurement_error.hpp"
 #include "problems/transient_problem.hpp"
 
 namespace mfv {
@@ -187,7 +188,7 @@ class OscillatingPlate final : public TransientProblem {
       // A stable run that did not cross zero twice measured no period: a failure with its
       // reason, never a pass with the period left blank.
       if (!out.unstable && crossings.size() < 2)
-        throw std::runtime_error(fmt::format(
+        throw MeasurementError(fmt::format(
             "oscillating-plate: the tip crossed zero {} time(s) in {:g} thin-plate periods; a "
             "period needs two crossings, so the plate did not oscillate in its first mode within "
             "the run (its period is above {:.3g} of the thin-plate one; raise periods)",

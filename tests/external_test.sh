@@ -116,6 +116,9 @@ for mode in sleep exit missing nan count energy-nan drift; do
   printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = 2\n' \
     "$mode" > "$work/fakes/fake-$mode.toml"
 done
+# Frames of a body at rest, on the plate too: its period cannot be measured.
+printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "zeros"]\nproblems = ["rod-pulse", "oscillating-plate"]\ntimeout = 20\n' \
+  > "$work/fakes/fake-zeros.toml"
 printf '[solver]\ncommand = ["mfv-no-such-solver"]\nproblems = ["rod-pulse"]\ninstall_hint = "apt install mfv-no-such-solver"\n' \
   > "$work/fakes/absent.toml"
 export MFV_SOLVERS="$work/fakes"
@@ -141,5 +144,29 @@ sed 's/external:fem-rod/external:fake-nan/; s/external-fem-rod/external-fake-nan
 rc=$?
 [ $rc -ne 0 ] || { cat "$work/vb.out"; fail "verify of a broken solver: exit 0"; }
 grep -q "field vx is nan at particle 17" "$work/vb.out" || { cat "$work/vb.out"; fail "verify: no reason"; }
+ok
+# A case whose run ended but whose measurement cannot be taken (no period from a plate at rest)
+# fails with its reason; the suite goes on to the next case, which passes.
+cat > "$work/measure.toml" <<'EOF'
+[suite]
+name = "measure"
+[[case]]
+id = "oscillating-plate/external-fake-zeros"
+problem = "oscillating-plate"
+method = "external:fake-zeros"
+nodes = [5]
+[[case]]
+id = "rod-pulse/external-fem-rod"
+problem = "rod-pulse"
+method = "external:fem-rod"
+nodes = [25]
+EOF
+"$mfv" verify "$work/measure.toml" > "$work/vm.out" 2>&1
+rc=$?
+[ $rc -eq 1 ] || { cat "$work/vm.out"; fail "verify with an unmeasurable case: exit $rc, expected 1"; }
+grep -q "could not measure: oscillating-plate: the tip crossed zero 0 time(s)" "$work/vm.out" ||
+  { cat "$work/vm.out"; fail "verify: no 'could not measure' with the reason"; }
+grep -q "rod-pulse/external-fem-rod .*PASS" "$work/vm.out" ||
+  { cat "$work/vm.out"; fail "verify: the case after the unmeasurable one did not run"; }
 ok
 echo "PASS: $checks checks"
