@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,7 @@
 #include "dynamics/external_solver.hpp"
 #include "methods/core/clock.hpp"
 #include "methods/core/errors.hpp"
+#include "methods/core/signal_cleanup.hpp"
 #include "reports/progress.hpp"
 
 namespace mfv {
@@ -303,16 +305,22 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
 
 namespace {
 
-/// The case directory of an external run: removed afterwards unless kept.
+/// The case directory of an external run: removed afterwards unless kept, also when a signal
+/// kills mfv (after the solver's process group: signal_cleanup.hpp runs the latest first).
 struct CaseDirectory {
   std::filesystem::path path;
   bool keep = false;
+  std::unique_ptr<OnSignal> on_signal;
   CaseDirectory() {
     std::string t = (std::filesystem::temp_directory_path() / "mfv-external-XXXXXX").string();
     if (!::mkdtemp(t.data()))
       throw std::runtime_error(fmt::format("cannot create a case directory under '{}'",
                                            std::filesystem::temp_directory_path().string()));
     path = t;
+    on_signal = std::make_unique<OnSignal>([this] {
+      std::error_code ignored;
+      if (!keep) std::filesystem::remove_all(path, ignored);
+    });
   }
   ~CaseDirectory() {
     std::error_code ignored;

@@ -23,6 +23,7 @@
 #include <toml++/toml.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/signal_cleanup.hpp"
 
 extern char** environ;
 
@@ -124,6 +125,9 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   if (spawn_error != 0) return -2;
+  // Killed itself (SIGINT, SIGTERM, SIGHUP), mfv takes the solver's group with it: the group
+  // is the solver's own, so the signal does not reach it, and it would run on, orphaned.
+  const OnSignal kill_group([pid] { ::kill(-pid, SIGKILL); });
   int status = 0;
   bool timed_out = false;
   double killed_at = 0;

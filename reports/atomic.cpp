@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/core/signal_cleanup.hpp"
 #include "reports/markdown.hpp"
 
 namespace mfv {
@@ -553,6 +554,9 @@ void install_staging_cleanup() {
   std::thread([set] {
     int sig = 0;
     if (sigwait(&set, &sig) != 0) return;
+    // First what the computation registered (an external solver's process group, then its
+    // case directory), then the staging directories; the process dies right after.
+    SignalCleanups::get().run_all_and_hold();
     {
       auto& reg = StagingRegistry::get();
       std::lock_guard<std::mutex> hold(reg.mutex);

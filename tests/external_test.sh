@@ -132,6 +132,19 @@ expect_exit 1 "energy balance (frames/energy.csv) drifted by 2 of the run's ener
   "$mfv" run rod-pulse -m external:fake-drift -n 25
 expect_exit 1 "not installed here: mfv-no-such-solver: no such program on PATH (install: apt install mfv-no-such-solver)" \
   "$mfv" run rod-pulse -m external:absent -n 25
+# mfv killed while its solver runs: the solver's process group goes with it and the case
+# directory is removed (the group is the solver's own: the signal alone would not reach it).
+mkdir -p "$work/tmp"
+TMPDIR="$work/tmp" "$mfv" run rod-pulse -m external:fake-sleep -n 25 > "$work/killed.out" 2>&1 &
+victim=$!
+for _ in $(seq 100); do pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null && break; sleep 0.05; done
+pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null || fail "kill: the solver did not start"
+kill -TERM $victim
+wait $victim
+for _ in $(seq 40); do pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null || break; sleep 0.05; done
+pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null && fail "kill: the solver outlived mfv"
+[ -z "$(ls -A "$work/tmp")" ] || { ls -la "$work/tmp"; fail "kill: the case directory outlived mfv"; }
+ok
 # A broken solver beside a good one: the good study reports, the broken one fails with its reason.
 "$mfv" compare rod-pulse -m external:fem-rod -m external:fake-nan -n 25 > "$work/mix.out" 2>&1
 grep -q "could not run: external:fake-nan: .*field vx is nan at particle 17" "$work/mix.out" ||
