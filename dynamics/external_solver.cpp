@@ -664,7 +664,13 @@ std::vector<fs::path> solver_dirs() {
     out.emplace_back(fs::path(MFV_SOURCE_DIR) / "solvers");
 #endif
   }
-  return out;
+  // A directory named twice (MFV_SOLVERS holding the default one, or one of its entries
+  // twice) is read once: its files are not two definitions of each solver.
+  std::vector<fs::path> unique;
+  std::set<fs::path> seen;
+  for (const fs::path& d : out)
+    if (seen.insert(fs::weakly_canonical(d, ec)).second) unique.push_back(d);
+  return unique;
 }
 
 std::vector<SolverSpec> find_solver_specs() {

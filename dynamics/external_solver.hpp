@@ -202,7 +202,8 @@ void register_external_solvers(MethodRegistry& methods, const std::vector<Solver
 
 /// The directories solver files are read from, in order: each of $MFV_SOLVERS
 /// (colon-separated), then the installed share/mfv/solvers beside the program
-/// (<prefix>/bin/mfv), else the source tree's solvers/ (a build tree). Absent ones are skipped.
+/// (<prefix>/bin/mfv), else the source tree's solvers/ (a build tree). Absent ones are skipped;
+/// one named twice is read once.
 std::vector<std::filesystem::path> solver_dirs();
 
 /// Every spec of solver_dirs(); a name found twice is an InputError naming both files.

@@ -145,6 +145,11 @@ for _ in $(seq 40); do pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/nu
 pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null && fail "kill: the solver outlived mfv"
 [ -z "$(ls -A "$work/tmp")" ] || { ls -la "$work/tmp"; fail "kill: the case directory outlived mfv"; }
 ok
+# The repository's LAMMPS adapter without LAMMPS (as in CI): not installed, with the way to get it.
+if ! command -v lmp > /dev/null; then
+  expect_exit 1 "external solver 'lammps-machdyn' is not installed here: .*LAMMPS not found.*scripts/bench_lammps.sh" \
+    env -u MFV_LAMMPS MFV_SOLVERS="$src/solvers" "$mfv" run rod-pulse -m external:lammps-machdyn -n 25
+fi
 # A broken solver beside a good one: the good study reports, the broken one fails with its reason.
 "$mfv" compare rod-pulse -m external:fem-rod -m external:fake-nan -n 25 > "$work/mix.out" 2>&1
 grep -q "could not run: external:fake-nan: .*field vx is nan at particle 17" "$work/mix.out" ||
