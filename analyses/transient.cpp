@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -453,10 +454,11 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   // The balance of the solver's own account, K + W_int − W_ext against its t = 0 value (mfv's
   // EnergyBalance::balance()); without an account, the kinetic energy of the frames' velocities
   // with mfv's masses.
+  const double e0 =
+      energy ? energy->kinetic[0] + energy->internal_work[0] - energy->external_work[0] : NAN;
   auto balance_at = [&](double t) -> std::array<double, 4> {
     if (!energy) return {state.kinetic_energy(), NAN, NAN, NAN};
     const auto [k, wi, we] = energy->at(t);
-    const double e0 = energy->kinetic[0] + energy->internal_work[0] - energy->external_work[0];
     return {k, wi, we, k + wi - we - e0};
   };
   auto record = [&]() {
@@ -501,10 +503,9 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   td.steps = done;
   td.stopped_early = done < static_cast<long>(out_frames.size());
   if (energy) {
-    // mfv's drift (run_loop): the largest |balance| over the account's rows, over the largest
-    // of |E₀|, the kinetic energy and |W_ext|; judged by drift_bound on runs of kMinDriftSteps
-    // solver steps or more (or of unstated length).
-    const double e0 = energy->kinetic[0] + energy->internal_work[0] - energy->external_work[0];
+    // mfv's drift (run_transient): the largest |balance| over the account's rows, over the
+    // largest of |E₀|, the kinetic energy and |W_ext|; judged by drift_bound on runs of
+    // kMinDriftSteps solver steps or more (or of unstated length).
     double worst = 0, worst_time = 0, scale = std::abs(e0);
     for (std::size_t i = 0; i < energy->time.size(); ++i) {
       scale = std::max({scale, energy->kinetic[i], std::abs(energy->external_work[i])});
