@@ -7,7 +7,8 @@ mfv runs `/usr/bin/python3 pysph_adapter.py DIR`. The adapter:
    velocities);
 2. keeps the particles mfv holds fixed (both components prescribed to zero for the whole
    run: the plate's clamp) in place: with clamp = "held" (default, mfv's definition) they stay
-   elastic particles whose positions and velocities are reset after every step; with
+   elastic particles whose accelerations and XSPH velocities are zero at every stage of the
+   step (HoldClamp), so they start and stay at rest where they are; with
    clamp = "walls" they become PySPH's rigid "solids" array, as PySPH's own oscillating-plate
    example builds its wall (whose stress PySPH does not integrate);
 3. runs ElasticSolidsScheme (momentum and continuity equations, Hookean stress rate with
@@ -79,6 +80,7 @@ h = h_over_dx * dx
 
 from pysph.base.kernels import CubicSpline  # noqa: E402
 from pysph.solver.application import Application  # noqa: E402
+from pysph.sph.equation import Equation, Group  # noqa: E402
 from pysph.sph.solid_mech.basic import (ElasticSolidsScheme,  # noqa: E402
                                         get_particle_array_elastic_dynamics)
 
@@ -100,6 +102,33 @@ print(f"PySPH ElasticSolidsScheme: dx = {dx:.6g}, h = {h_over_dx} dx, dt = {dt:.
       f"{len(times)} output times", flush=True)
 
 
+class HoldClamp(Equation):
+    """The clamp of clamp = "held": a held particle's accelerations, its XSPH velocity
+    included, are zero at every stage of PySPH's predictor-corrector, so it never moves and
+    its velocity stays 0 (mfv's prescribed zero velocity). It stays an elastic particle: its
+    stress follows its neighbours' motion. Resetting it only after each step instead let it
+    move within the step, and the stress that motion integrated stayed when its position was
+    put back (measured: the plate at 9 through the thickness drifted up and never swung
+    back)."""
+
+    def loop(self, d_idx, d_mfv_held, d_au, d_av, d_ax, d_ay):
+        if d_mfv_held[d_idx] > 0.5:
+            d_au[d_idx] = 0.0
+            d_av[d_idx] = 0.0
+            d_ax[d_idx] = 0.0
+            d_ay[d_idx] = 0.0
+
+
+class HeldClampScheme(ElasticSolidsScheme):
+    """PySPH's ElasticSolidsScheme, then HoldClamp on the held particles (clamp = "held")."""
+
+    def get_equations(self):
+        equations = super().get_equations()
+        if clamp == "held" and clamped.any():
+            equations.append(Group(equations=[HoldClamp(dest="solid", sources=None)]))
+        return equations
+
+
 class MfvCase(Application):
     def create_particles(self):
         kernel = CubicSpline(dim=2)
@@ -111,8 +140,9 @@ class MfvCase(Application):
             pa = get_particle_array_elastic_dynamics(
                 x=X[sel], y=Y[sel], m=mass[sel], h=h, rho=rho, name=name,
                 constants=dict(wdeltap=wdeltap, n=4, rho_ref=rho, E=E, nu=nu))
-            pa.u[:] = vx0[sel] if name == "solid" else 0.0
-            pa.v[:] = vy0[sel] if name == "solid" else 0.0
+            # Held and wall particles start at rest (mfv's prescribed zero velocity).
+            pa.u[:] = np.where(clamped[sel], 0.0, vx0[sel])
+            pa.v[:] = np.where(clamped[sel], 0.0, vy0[sel])
             pa.add_property("mfv_id")
             pa.mfv_id[:] = ids[sel]
             pa.add_property("mfv_held")
@@ -126,7 +156,7 @@ class MfvCase(Application):
         return arrays
 
     def create_scheme(self):
-        s = ElasticSolidsScheme(elastic_solids=["solid"],
+        s = HeldClampScheme(elastic_solids=["solid"],
                                 solids=["wall"] if wall.any() else [], dim=2,
                                 artificial_stress_eps=float(par.get("eps", 0.3)),
                                 xsph_eps=float(par.get("xsph", 0.5)),
@@ -145,14 +175,6 @@ class MfvCase(Application):
                 free = pa.mfv_held < 0.5
                 self.w_int -= float(np.sum(pa.m[free] * (pa.au[free] * (pa.x[free] - pa.x0[free]) +
                                                           pa.av[free] * (pa.y[free] - pa.y0[free]))))
-        if clamp == "held":
-            for pa in self.particles:
-                if pa.name == "solid":
-                    hold = pa.mfv_held > 0.5
-                    pa.x[hold] = pa.mfv_x0[hold]
-                    pa.y[hold] = pa.mfv_y0[hold]
-                    pa.u[hold] = 0.0
-                    pa.v[hold] = 0.0
         t = solver.t + solver.dt
         kinetic = sum(0.5 * float(np.sum(pa.m * (pa.u ** 2 + pa.v ** 2)))
                       for pa in self.particles if pa.name == "solid")
