@@ -393,6 +393,29 @@ std::vector<std::string> split_csv(const std::string& line) {
   return out;
 }
 
+/// `line` without the trailing '\r' and spaces of a file written on another system.
+void trim_end(std::string& line) {
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+}
+
+/// Each column name of a CSV header with its index.
+std::map<std::string, int> column_index(const std::vector<std::string>& header) {
+  std::map<std::string, int> col;
+  for (int i = 0; i < static_cast<int>(header.size()); ++i) col[header[i]] = i;
+  return col;
+}
+
+/// Reads the first line of the solver's file `name` (e.g. "frames/index.csv") and checks it
+/// is the protocol's version.
+void expect_protocol_line(std::istream& in, const std::string& name) {
+  std::string line;
+  std::getline(in, line);
+  trim_end(line);
+  if (line != kExternalProtocol)
+    throw ExternalSolverError(fmt::format("{}: first line '{}', expected the protocol '{}'",
+                                          name, line.substr(0, 60), kExternalProtocol));
+}
+
 /// Parses a CSV number; NaN for "nan" and for anything unparsable (reported as such).
 bool parse_number(const std::string& s, double& v) {
   if (s.empty()) return false;
@@ -419,19 +442,14 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
     throw ExternalSolverError(fmt::format("the solver wrote no frames/index.csv (expected the "
                                           "line '{}', then k,time for each of {} frames)",
                                           kExternalProtocol, c.output_times.size()));
+  expect_protocol_line(in, "frames/index.csv");
   std::string line;
-  std::getline(in, line);
-  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-  if (line != kExternalProtocol)
-    throw ExternalSolverError(fmt::format("frames/index.csv: first line '{}', expected the "
-                                          "protocol '{}'",
-                                          line.substr(0, 60), kExternalProtocol));
   // "k,time", or "k,time,steps" with the solver's steps from t = 0 to the frame (optional:
   // the report's particle-steps per second).
   std::map<std::size_t, std::pair<double, long>> written;
   bool with_steps = false;
   for (int ln = 2; std::getline(in, line); ++ln) {
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    trim_end(line);
     if (line.empty()) continue;
     if (line == "k,time" || line == "k,time,steps") {
       with_steps = line == "k,time,steps";
@@ -472,8 +490,7 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
     std::ifstream f(file);
     std::getline(f, line);
     const auto header = split_csv(line);
-    std::map<std::string, int> col;
-    for (int i = 0; i < static_cast<int>(header.size()); ++i) col[header[i]] = i;
+    std::map<std::string, int> col = column_index(header);
     for (const auto& h : need)
       if (!col.count(h))
         throw ExternalSolverError(fmt::format("{}: {} has no column '{}' (header: {})", what,
@@ -548,19 +565,14 @@ std::optional<ExternalEnergy> read_case_energy(const fs::path& dir, const Extern
   const fs::path file = dir / "frames" / "energy.csv";
   if (!fs::exists(file)) return std::nullopt;
   std::ifstream in(file);
-  std::string line;
-  if (!in || !std::getline(in, line))
+  if (!in || in.peek() == std::ifstream::traits_type::eof())
     throw ExternalSolverError("frames/energy.csv cannot be read (or is empty)");
-  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-  if (line != kExternalProtocol)
-    throw ExternalSolverError(fmt::format("frames/energy.csv: first line '{}', expected the "
-                                          "protocol '{}'",
-                                          line.substr(0, 60), kExternalProtocol));
+  expect_protocol_line(in, "frames/energy.csv");
+  std::string line;
   std::getline(in, line);
-  while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  trim_end(line);
   const auto header = split_csv(line);
-  std::map<std::string, int> col;
-  for (int i = 0; i < static_cast<int>(header.size()); ++i) col[header[i]] = i;
+  std::map<std::string, int> col = column_index(header);
   for (const char* need : {"time", "kinetic", "internal_work"})
     if (!col.count(need))
       throw ExternalSolverError(fmt::format("frames/energy.csv: no column '{}' (header: '{}'; "
@@ -569,7 +581,7 @@ std::optional<ExternalEnergy> read_case_energy(const fs::path& dir, const Extern
   const bool with_external = col.count("external_work") != 0;
   ExternalEnergy e;
   for (int ln = 3; std::getline(in, line); ++ln) {
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    trim_end(line);
     if (line.empty()) continue;
     const auto v = split_csv(line);
     if (v.size() != header.size())
