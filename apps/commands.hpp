@@ -87,11 +87,17 @@ struct VerifyOptions {
   /// --vtk=finest: each study's finest resolution only.
   bool vtk_finest_only = false;
   bool force = false;  ///< replace an mfv report that holds files mfv did not write
+  /// A timing regression (a case far slower than the run's machine factor) fails the run
+  /// (also [suite] timing_gate = true); without it timing is reported only.
+  bool timing_gate = false;
+  /// A case not in the baseline fails; without it a new case is "new: record it".
+  bool require_baseline = false;
 };
-/// `mfv verify`: runs a manifest's studies, checks every band and the baseline, writes the
-/// report, prints one verdict line per case and every violation. Returns 0 when all cases are
-/// inside their bands and no number got worse than the baseline by more than the tolerance,
-/// 1 otherwise.
+/// `mfv verify` (apps/verify_command.cpp): runs a manifest's studies, checks every band and
+/// the baseline, judges CPU against the run's machine factor, writes the report, prints one
+/// verdict line per case and every violation. Returns 0 when all cases are inside their bands
+/// and no number got worse than the baseline by more than the tolerance (and, under a timing
+/// gate, no case was a timing regression), 1 otherwise.
 int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out,
                    std::ostream& progress);
 

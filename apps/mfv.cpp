@@ -234,8 +234,16 @@ int main(int argc, char** argv) {
   cmd_verify->add_option("--junit", ver.junit,
                          "also write the verdicts as JUnit XML to this file (for CI test views)")
       ->check(non_empty_path("--junit"));
-  cmd_verify->add_flag("--update-baseline", ver.update_baseline,
-                       "record this run's numbers as the baseline");
+  auto* ver_update = cmd_verify->add_flag("--update-baseline", ver.update_baseline,
+                                          "record this run's numbers as the baseline");
+  cmd_verify->add_flag("--require-baseline", ver.require_baseline,
+                       "fail a case that is not in the baseline (default: it is 'new', "
+                       "recorded by --update-baseline)")
+      ->excludes(ver_update);
+  cmd_verify->add_flag("--timing-gate", ver.timing_gate,
+                       "fail the run on a timing regression: a case more than 3x slower than "
+                       "the baseline scaled by this run's machine factor (default: reported "
+                       "only; also [suite] timing_gate = true)");
   auto* ver_report =
       cmd_verify->add_option("--report,-r", ver.report, "report directory (default runs/<suite>)")
           ->check(non_empty_path("--report"));
@@ -308,7 +316,13 @@ int main(int argc, char** argv) {
                                argv[1], mfv::did_you_mean(argv[1], names), fmt::join(names, ", "));
       return 2;
     }
-    app.exit(e);
+    // CLI11's own message, in mfv's voice, with where to read the choices.
+    std::string where = "mfv";
+    for (const auto* sub : app.get_subcommands())
+      where += " " + sub->get_name();
+    std::string what = e.what();
+    if (!what.empty() && what.back() == '\n') what.pop_back();
+    std::cerr << fmt::format("mfv: input error: {}; see `{} --help`\n", what, where);
     return 2;
   }
   if (rank > 0) {

@@ -1124,28 +1124,13 @@ TEST(Drift, LostMeansTheBaselineHeldANumberThisRunDidNotMeasure) {
     EXPECT_FALSE(d.lost) << d.metric << ": a number where the baseline had none is not lost";
 }
 
-TEST(CpuDrift, AGenerousRatioOnTheSameMachine) {
+// CPU seconds are judged apart from the drift check, against the run's machine factor
+// (tests/test_timing.cpp).
+TEST(CpuDrift, IsNotTheDriftChecksBusiness) {
   auto cpu = [](double seconds) {
     return drifted([seconds](BaselineCase& c) { c.cpu_seconds = seconds; });
   };
-  auto drifts = [&](double base, double now) {
-    return check_drift("a", cpu(base), cpu(now), 0.05, 1e-12, true);
-  };
-  EXPECT_TRUE(drifts(10, 29).empty()) << "2.9× is inside the ratio";
-  auto slower = drifts(10, 31);
-  ASSERT_EQ(slower.size(), 1u);
-  EXPECT_EQ(slower[0].metric, "cpu_seconds");
-  EXPECT_TRUE(slower[0].worse);
-  EXPECT_NE(slower[0].message.find("3.1× the baseline"), std::string::npos) << slower[0].message;
-  EXPECT_TRUE(drifts(0.1, 1.5).empty()) << "15× but 1.4 s: a short case's noise";
-  auto faster = drifts(31, 10);
-  ASSERT_EQ(faster.size(), 1u);
-  EXPECT_FALSE(faster[0].worse);
-  EXPECT_TRUE(drifts(kNaN, 100).empty()) << "not recorded: not compared";
-  EXPECT_TRUE(same_machine(machine_note("X", 2, 2), machine_note("X", 2, 2)));
-  EXPECT_FALSE(same_machine(machine_note("X", 2, 2), machine_note("X", 2, 1)));
-  EXPECT_FALSE(same_machine("", ""));
-  EXPECT_FALSE(same_machine(machine_note("", 2, 2), machine_note("", 2, 2)));
+  EXPECT_TRUE(check_drift("a", cpu(10), cpu(100), 0.05, 1e-12).empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(Baseline, DriftChecks, ::testing::ValuesIn(kDriftChecks), RowName());

@@ -19,8 +19,10 @@
 //   "tip deflection" = 8.89e-3
 //
 // [meta] machine names where the CPU seconds were measured (the CPU model and hardware
-// threads, then the OpenMP threads and wait policy): CPU is compared only on the same CPU
-// model and thread count, and then judged by a generous ratio (kCpuRatio), not a tolerance.
+// threads, then the OpenMP threads), and reference_cpu_seconds the fixed reference workload's
+// CPU seconds there (verify/timing.hpp). CPU is compared only at the same thread counts, and
+// then judged against the baseline scaled by the run's machine factor (verify/timing.hpp),
+// never by a tolerance and apart from the accuracy verdict.
 //
 // Numbers carry 17 significant digits so that writing and re-reading is exact. "h1" is the H1
 // seminorm ‖e'‖ (ErrorNorms::h1_semi), as in the manifest's bands. The string "nan" records
@@ -56,14 +58,10 @@ struct Baseline {
   std::string suite;                          ///< the manifest's suite name ([meta] suite)
   /// Where the CPU seconds were measured ([meta] machine, machine_note()); "" : unknown.
   std::string machine;
+  /// The reference workload's CPU seconds on that machine ([meta] reference_cpu_seconds,
+  /// reference_workload_seconds()); NaN: not recorded.
+  double reference_seconds = std::numeric_limits<double>::quiet_NaN();
 };
-
-/// A CPU time is a regression when it exceeds kCpuRatio × the baseline's and the baseline's
-/// plus kCpuFloorSeconds (a short case's seconds are noise), on the machine that recorded it.
-/// Generous on purpose: CPU seconds of one case spread by about ±10 % over runs on a quiet
-/// machine (issue 28's 5-run measurement), and a real slowdown is a factor.
-inline constexpr double kCpuRatio = 3;
-inline constexpr double kCpuFloorSeconds = 2;
 
 /// A headline that is a time or speed of the computer, not of the physics ("CPU per step
 /// (s)", "particle-steps per second", "particle-steps/s"): kept out of
@@ -71,7 +69,7 @@ inline constexpr double kCpuFloorSeconds = 2;
 bool is_timing_headline(const std::string& key);
 
 /// The machine note of [meta] machine: "<CPU model>, <n> hardware threads, <t> OpenMP
-/// threads". Two notes with the same CPU model, hardware threads and OpenMP threads compare.
+/// threads".
 std::string machine_note(const std::string& cpu, unsigned cores, int threads);
 
 /// Reads a baseline. A missing file is an empty baseline (nothing recorded yet); an unreadable
@@ -89,8 +87,8 @@ BaselineCase baseline_from_study(const StudyResult& s);
 
 struct Drift {
   std::string case_id;
-  /// l2, h1, l2_rel, h1_rel, l2_rate, h1_rate, "headline: <key>", cpu_seconds, or
-  /// "resolution"
+  /// l2, h1, l2_rel, h1_rel, l2_rate, h1_rate, "headline: <key>", or "resolution" (CPU
+  /// seconds are judged apart: verify/timing.hpp)
   std::string metric;
   int nodes = 0;       ///< the resolution; 0 for the rates
   double baseline = 0, current = 0;
@@ -111,17 +109,19 @@ struct Drift {
 /// `tolerance` (unless both are below `floor`); a headline has no better direction, so every
 /// such move is worse (it fails until the baseline is updated on purpose). A headline the
 /// baseline holds and this run lacks is worse; a new one only asks for --update-baseline.
-/// CPU: worse when above kCpuRatio × the baseline's and its plus kCpuFloorSeconds, a note
-/// (not worse) when as many times faster; compared only when `same_machine`.
+/// CPU seconds are not compared here: timing is judged apart (verify/timing.hpp).
 /// A resolution present in only one of them is a drift of metric "resolution" (NaN values)
 /// asking to re-run --update-baseline. A non-finite value (NaN, inf) against a number is a
 /// drift, worse when the current value is the non-finite one; NaN against NaN is not.
 std::vector<Drift> check_drift(const std::string& case_id, const BaselineCase& base,
-                               const BaselineCase& current, double tolerance, double floor,
-                               bool same_machine = false);
+                               const BaselineCase& current, double tolerance, double floor);
 
-/// Whether CPU seconds recorded under machine note `a` compare with those of `b`: both known
-/// and equal.
+/// Whether machine notes `a` and `b` name the same CPU model and thread counts (both known).
 bool same_machine(const std::string& a, const std::string& b);
+/// Whether CPU seconds recorded under note `a` compare with those of `b` once scaled by a
+/// machine factor: both known, with the same hardware and OpenMP thread counts (the CPU
+/// model may differ: the factor measures the speed; the thread counts change how the
+/// seconds of a parallel loop add up, which no single factor scales).
+bool cpu_comparable(const std::string& a, const std::string& b);
 
 }  // namespace mfv

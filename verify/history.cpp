@@ -318,6 +318,25 @@ RunRecord HistoryStore::record(long run) const {
   return r;
 }
 
+std::optional<HistoryRun> HistoryStore::failing_since(const std::string& case_id,
+                                                      long run) const {
+  Statement s(db_,
+              "SELECT r.id, r.generated_utc, r.suite, r.commit_id, r.status, r.dirty, r.full, "
+              "r.failed, r.cases, w.verdict FROM runs r LEFT JOIN verdicts w ON w.run = r.id "
+              "AND w.kind = 'regression' AND w.subject = ? WHERE r.suite = (SELECT suite FROM "
+              "runs WHERE id = ?) AND r.id <= ? ORDER BY r.id DESC",
+              path_);
+  s.bind(1, case_id).bind(2, run).bind(3, run);
+  std::optional<HistoryRun> first;
+  while (s.step()) {
+    if (s.text(9) != "FAIL") break;
+    first = HistoryRun{s.integer(0), s.text(1), s.text(2), s.text(3), s.text(4),
+                       s.integer(5) != 0, s.integer(6) != 0, static_cast<int>(s.integer(7)),
+                       static_cast<int>(s.integer(8))};
+  }
+  return first;
+}
+
 std::vector<HistoryDrift> HistoryStore::drifts(long run, int window, double tolerance) const {
   // The window: the last `window` runs of the same suite up to `run`.
   Statement s(db_,

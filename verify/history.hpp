@@ -16,6 +16,7 @@
 /// the path and the fix and is never replaced.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,10 @@ class HistoryStore {
   std::vector<std::string> cases() const;
   /// A recorded run as diff reads it; InputError when there is no such id.
   RunRecord record(long run) const;
+  /// "Since when": the first run of the streak of regression FAILs of `case_id` that ends at
+  /// `run` (the runs of `run`'s suite, newest first, while the case's verdict is FAIL); none
+  /// when the case did not fail in `run`. A run without the case ends the streak.
+  std::optional<HistoryRun> failing_since(const std::string& case_id, long run) const;
   /// Slow drifts over the last `window` runs of `suite` ending at `run`.
   std::vector<HistoryDrift> drifts(long run, int window, double tolerance) const;
 

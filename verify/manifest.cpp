@@ -336,7 +336,8 @@ bool is_plain_name(const std::string& s) {
 void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
   static const std::vector<std::string> kKeys = {"name", "description", "baseline",
                                                  "drift_tolerance", "drift_floor", "ledger",
-                                                 "plugins"};
+                                                 "plugins", "timing_gate",
+                                                 "timing_floor_seconds"};
   const auto* t = n.as_table();
   if (!t)
     r.fail(line_of(n), fmt::format("'suite' must be a table, got {}", type_name(n)),
@@ -373,6 +374,21 @@ void parse_suite(const Reporter& r, const toml::node& n, Manifest& m) {
     if (m.drift_tolerance <= 0)
       r.fail(line_of(*v), fmt::format("drift_tolerance {} is not positive", m.drift_tolerance),
              "give a relative tolerance > 0, e.g. drift_tolerance = 0.05 for 5%");
+  }
+  if (auto v = t->get("timing_gate")) {
+    const auto* b = v->as_boolean();
+    if (!b)
+      r.fail(line_of(*v), fmt::format("'timing_gate' must be true or false, got {}", type_name(*v)),
+             "write timing_gate = true to fail the run on a timing regression");
+    m.timing_gate = b->get();
+  }
+  if (auto v = t->get("timing_floor_seconds")) {
+    m.timing_floor_seconds = get_number(r, *v, "timing_floor_seconds");
+    if (!(m.timing_floor_seconds >= 0) || !std::isfinite(m.timing_floor_seconds))
+      r.fail(line_of(*v),
+             fmt::format("timing_floor_seconds {} is not a finite number >= 0",
+                         m.timing_floor_seconds),
+             "give the seconds a short case's CPU may wander, e.g. timing_floor_seconds = 2");
   }
   if (auto v = t->get("drift_floor")) {
     m.drift_floor = get_number(r, *v, "drift_floor");

@@ -9,6 +9,11 @@
 //                                             # omitted: no baseline, no drift checks
 //   drift_tolerance = 0.05                    # relative; > 0; a number that moves more is flagged
 //   drift_floor = 1e-12                       # absolute, >= 0: errors below it are round-off
+//   timing_gate = false                       # true: a timing regression (a case far slower
+//                                             # than the run's machine factor, verify/timing.hpp)
+//                                             # fails the run; default: reported only
+//   timing_floor_seconds = 2                  # >= 0: a case must also be this many seconds
+//                                             # beyond its scaled baseline to be judged slower
 //   ledger = "ledger.toml"                    # relative to the manifest's directory: the
 //                                             # reproduction ledger (verify/ledger.hpp) whose
 //                                             # verdicts open the report; omitted: none
@@ -100,6 +105,10 @@ struct Manifest {
   /// resolved against the manifest's directory, in file order.
   std::vector<std::filesystem::path> plugins;
   double drift_tolerance = 0.05, drift_floor = 1e-12;
+  /// [suite] timing_gate: a timing regression fails the run (verify/timing.hpp).
+  bool timing_gate = false;
+  /// [suite] timing_floor_seconds (verify/timing.hpp's floor).
+  double timing_floor_seconds = 2;
   std::vector<ManifestCase> cases;  ///< in file order
 
   /// The case with this id; InputError naming the near ids ("did you mean") otherwise.

@@ -506,7 +506,9 @@ std::string ledger_json_text(const Ledger& ledger, const std::vector<LedgerEntry
 std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
                                 const std::string& suite, const std::string& manifest,
                                 bool full, const std::vector<VerifyCaseJson>& cases,
-                                const Ledger* ledger, const std::vector<LedgerEntry>& entries) {
+                                const Ledger* ledger, const std::vector<LedgerEntry>& entries,
+                                const VerifyTimingJson* timing,
+                                const std::map<std::string, int>& failed_by) {
   JsonNumbers n;
   json doc = {{"schema", kResultsSchema}, {"run", run_json(run)}};
   doc["suite"] = {{"name", suite}, {"manifest", manifest}, {"full", full}};
@@ -516,7 +518,11 @@ std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
     if (c.verdict != "PASS") ++failed;
     json j = {{"id", c.id},           {"problem", c.problem}, {"method", c.method},
               {"nodes", c.nodes},     {"bands", c.bands},     {"baseline", c.baseline},
-              {"verdict", c.verdict}, {"messages", c.messages}};
+              {"verdict", c.verdict}, {"messages", c.messages},
+              {"failed_kinds", c.failed_kinds}};
+    // Present only where the CPU was judged (regression.timing says why not otherwise).
+    if (std::isfinite(c.cpu_ratio)) j["cpu_ratio"] = c.cpu_ratio;
+    if (std::isfinite(c.cpu_relative)) j["cpu_relative"] = c.cpu_relative;
     if (c.study) {
       j["study"] = studies.size();
       studies.push_back(
@@ -530,9 +536,34 @@ std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
   doc["regression"] = {{"status", failed == 0 ? "PASS" : "FAIL"},
                        {"failed", failed},
                        {"cases", cases.size()},
+                       {"failed_by", failed_by},
                        {"meaning", "against the manifest's bands and the baseline: no "
                                    "regression; says nothing about reproducing the papers "
                                    "(that is the ledger)"}};
+  if (timing) {
+    const VerifyTimingJson& t = *timing;
+    const std::string at = "/regression/timing";
+    auto num = [&](double x, const std::string& key, const std::string& why) {
+      return std::isfinite(x) ? json(x) : n.absent(at + "/" + key, why);
+    };
+    doc["regression"]["timing"] = {
+        {"factor", num(t.factor, "factor", "no machine factor: " + t.why_unknown)},
+        {"rule", t.rule},
+        {"median", num(t.median, "median", "too few cases with a baseline CPU time")},
+        {"median_cases", t.median_cases},
+        {"reference_ratio",
+         num(t.reference_ratio, "reference_ratio", "the reference workload is not in the baseline")},
+        {"reference_seconds", num(t.reference_seconds, "reference_seconds", "not measured")},
+        {"baseline_reference_seconds",
+         num(t.baseline_reference_seconds, "baseline_reference_seconds", "not in the baseline")},
+        {"load_average_start",
+         num(t.load_start >= 0 ? t.load_start : NAN, "load_average_start", "unknown")},
+        {"load_average_end", num(t.load_end >= 0 ? t.load_end : NAN, "load_average_end", "unknown")},
+        {"steal_fraction", num(t.steal, "steal_fraction", "/proc/stat not readable")},
+        {"gated", t.gated},
+        {"slower", t.slower},
+        {"status", t.status}};
+  }
   doc["cases"] = std::move(list);
   doc["studies"] = std::move(studies);
   doc["failures"] = json::array();

@@ -1,6 +1,8 @@
 /// Machine-readable results: results.json of a study, a comparison or a verification run, and
 /// ledger.json (schemas in docs/schemas/, described in docs/results-schema.md).
 #pragma once
+#include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,27 @@ struct VerifyCaseJson {
   std::vector<std::string> messages;
   const StudyResult* study = nullptr;  ///< null when the case could not run
   std::string error;
+  /// The kinds a FAIL failed by (accuracy, headline, stability, baseline, could not run,
+  /// timing); empty for a PASS.
+  std::vector<std::string> failed_kinds = {};
+  /// CPU now over the baseline's, and that over the machine factor (NaN: not judged).
+  double cpu_ratio = NAN, cpu_relative = NAN;
+};
+
+/// How a verify run judged CPU time (verify/timing.hpp): "regression.timing" of results.json.
+struct VerifyTimingJson {
+  double factor = NAN;             ///< the machine factor used (NaN: none measured)
+  std::string rule;                ///< how it was measured ("" : none)
+  double median = NAN;             ///< the run's median CPU ratio (NaN: too few cases)
+  int median_cases = 0;
+  double reference_ratio = NAN;    ///< the reference workload's ratio (NaN: not on both sides)
+  double reference_seconds = NAN, baseline_reference_seconds = NAN;
+  double load_start = -1, load_end = -1;  ///< 1-minute load averages (-1: unknown)
+  double steal = NAN;              ///< steal fraction over the run
+  bool gated = false;              ///< a timing regression fails the run
+  std::vector<std::string> slower; ///< the cases far slower than the factor predicts
+  std::string status;              ///< the one-line status
+  std::string why_unknown;         ///< why no factor, when none
 };
 
 /// results.json of `mfv verify`: suite, regression summary, every case with its study, and the
@@ -85,6 +108,8 @@ struct VerifyCaseJson {
 std::string verify_results_json(const Registries& catalogue, const RunInfo& run,
                                 const std::string& suite, const std::string& manifest,
                                 bool full, const std::vector<VerifyCaseJson>& cases,
-                                const Ledger* ledger, const std::vector<LedgerEntry>& entries);
+                                const Ledger* ledger, const std::vector<LedgerEntry>& entries,
+                                const VerifyTimingJson* timing = nullptr,
+                                const std::map<std::string, int>& failed_by = {});
 
 }  // namespace mfv
