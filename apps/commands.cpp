@@ -186,8 +186,10 @@ void command_list(const Catalogue& c, const std::string& what, std::ostream& out
   add(c.problems);
   add(c.analyses);
   auto problem_analyses = [&](const std::string& name) {
+    const auto problem = c.problems.create(name);
     out << fmt::format("      analyses (the first is the default): {}\n",
-                       fmt::join(c.problems.create(name)->analyses(), ", "));
+                       fmt::join(problem->analyses(), ", "));
+    out << fmt::format("      -n / nodes counts: {}\n", problem->resolution_name());
   };
   if (what.empty()) {
     for (const auto& k : kinds) k.list(false);

@@ -124,6 +124,13 @@ struct HistoryCommandOptions {
 /// the last runs (time, commit, value).
 int command_history(const HistoryCommandOptions& o, std::ostream& out);
 
+/// `mfv docs` (apps/docs_command.cpp): checks (or, with `write`, rewrites) the blocks of
+/// `files` generated from a manifest ('<!-- mfv:begin KIND MANIFEST -->' … '<!-- mfv:end -->':
+/// the counts, the methods × problems table). Returns 1 when a block is out of date and
+/// `write` is false, else 0; InputError for a file without blocks or a malformed one.
+int command_docs(const Catalogue& c, const std::vector<std::string>& files, bool write,
+                 std::ostream& out);
+
 /// `mfv manifest-ctest`: writes a CTest script with one test per manifest case
 /// (`mfv verify <manifest> --case <id> --no-report`), labelled regression, problem, method and
 /// the case's labels, so `ctest -L rkpm` and `ctest -j` work.

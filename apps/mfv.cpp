@@ -118,7 +118,10 @@ int main(int argc, char** argv) {
   cmd_run->add_option("--method,-m", run.method, "method name")->required();
   cmd_run->add_option("--params,-p", run.method_params, "method parameters key=value,...");
   cmd_run->add_option("--problem-params", run.problem_params, "problem parameters key=value,...");
-  cmd_run->add_option("--nodes,-n", run.nodes, "number of particles")
+  cmd_run->add_option("--nodes,-n", run.nodes,
+                      "the resolution: particles on the line in 1D; in 2D what the problem "
+                      "counts (`mfv list <problem>` says what: the cantilever's particles across "
+                      "the depth, the rod's along its length)")
       ->required()
       ->check(CLI::Range(1, std::numeric_limits<int>::max()));
   cmd_run->add_option("--perturb", run.perturbation, "random particle offsets, fraction of dx")
@@ -137,7 +140,9 @@ int main(int argc, char** argv) {
     c->add_option("--analysis", cmp.analysis,
                   "the analysis to run (default: the problem's first; see mfv list)");
     auto* nodes = c->add_option("--nodes,-n", cmp.nodes,
-                                "resolutions, repeatable or comma-separated; run coarse to fine "
+                                "resolutions (each as --nodes of `mfv run`: particles on the "
+                                "line, or what the 2D problem counts), repeatable or "
+                                "comma-separated; run coarse to fine "
                                 "in sorted order, each at most once (default: the problem's "
                                 "standard refinement study)")
                       ->delimiter(',')
@@ -285,6 +290,19 @@ int main(int argc, char** argv) {
   cmd_history->add_option("--last", hist.last, "how many runs (default 20)")
       ->check(CLI::Range(1, 1000000));
 
+  std::vector<std::string> docs_files;
+  bool docs_write = false;
+  auto* cmd_docs = app.add_subcommand(
+      "docs", "check (or rewrite) the blocks of README.md and docs/ generated from a manifest: "
+              "the counts and the methods x problems table; exit 1 when one is out of date");
+  cmd_docs->add_option("files", docs_files, "Markdown files holding '<!-- mfv:begin KIND "
+                                            "MANIFEST -->' blocks")
+      ->required();
+  bool docs_check_flag = false;
+  auto* docs_check = cmd_docs->add_flag("--check", docs_check_flag, "check only (the default)");
+  cmd_docs->add_flag("--write", docs_write, "rewrite the blocks that are out of date")
+      ->excludes(docs_check);
+
   std::string ctest_manifest, ctest_output, ctest_mfv;
   auto* cmd_ctest = app.add_subcommand(
       "manifest-ctest", "write a CTest script with one regression test per manifest case");
@@ -371,6 +389,8 @@ int main(int argc, char** argv) {
     if (*list) {
       mfv::command_list(catalogue, list_what, out);
       status = flushed(0);
+    } else if (*cmd_docs) {
+      if (rank == 0) status = flushed(mfv::command_docs(catalogue, docs_files, docs_write, out));
     } else if (*cmd_ctest) {
       if (rank == 0) mfv::command_manifest_ctest(ctest_manifest, ctest_mfv, ctest_output);
     } else if (*cmd_run) {
