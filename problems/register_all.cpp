@@ -24,7 +24,8 @@ namespace mfv {
   X(notched_beam)           \
   X(hydrostatic_column)     \
   X(dam_break)              \
-  X(oscillating_plate)
+  X(oscillating_plate)      \
+  X(manufactured)
 
 #define MFV_DECLARE(name) void register_##name(ProblemRegistry&);
 MFV_PROBLEMS(MFV_DECLARE)
