@@ -14,17 +14,22 @@ namespace {
 
 constexpr const char* kTip = "tip deflection u_y(L,0)";
 
-/// The studies of `method` with (fixed_support) or without a fixed `radius` parameter, and with
-/// or without variationally consistent integration (vci=true, not a method of 001).
+/// The VCI order a study ran with (vci, not a method of 001): "false", "linear" (vci=true or
+/// linear) or "quadratic".
+std::string vci_of(const StudySummary& s) {
+  const std::string v = s.params.has("vci") ? s.params.text("vci") : "false";
+  return v == "true" ? "linear" : v;
+}
+
+/// The studies of `method` with (fixed_support) or without a fixed `radius` parameter, and
+/// with variationally consistent integration of order `vci` ("false": none).
 std::vector<const StudySummary*> of(const std::vector<StudySummary>& all, const std::string& method,
-                                    bool fixed_support = false, bool vci = false) {
+                                    bool fixed_support = false, const std::string& vci = "false") {
   std::vector<const StudySummary*> out;
-  for (const auto& s : all) {
-    const bool with_vci = s.params.has("vci") && s.params.text("vci") == "true";
-    if (s.method == method && s.params.has("radius") == fixed_support && with_vci == vci &&
+  for (const auto& s : all)
+    if (s.method == method && s.params.has("radius") == fixed_support && vci_of(s) == vci &&
         s.resolutions >= 3)
       out.push_back(&s);
-  }
   return out;
 }
 
@@ -168,18 +173,37 @@ std::vector<Finding> cantilever_findings() {
                "kbm-si vci=true L2 rate in [1.7, 2.3]; kbm-ni and efg-ni with and without VCI "
                "listed beside it",
                [](const std::vector<StudySummary>& all) -> Verdict {
-                 const auto k = of(all, "kbm-si", false, true);
+                 const auto k = of(all, "kbm-si", false, "linear");
                  if (k.empty()) return not_run("kbm-si vci=true");
                  const bool ok = k[0]->l2_rate >= 1.7 && k[0]->l2_rate <= 2.3;
                  std::string text = describe(*k[0]);
                  for (const char* m : {"kbm-si", "kbm-ni", "efg-ni"})
-                   for (bool v : {false, true}) {
-                     if (std::string(m) == "kbm-si" && v) continue;
+                   for (const char* v : {"false", "linear"}) {
+                     if (std::string(m) == "kbm-si" && std::string(v) == "linear") continue;
                      for (const auto* s : of(all, m, false, v)) text += "; " + describe(*s);
                    }
                  return {ok ? "reproduced under a stated reading" : "not reproduced", text};
                },
                "kbm-si-rate-vci"});
+  // Not from 001 either (issue 43): quadratic VCI also meets the second divergence identity,
+  // the one a linear stress needs, which Shepard test functions (not linearly complete) leave
+  // unmet under stress-point sums. The rate of an asymptotic claim ("close to two") is the
+  // observed order on the finest pair, with the errors converging.
+  f.push_back({"001 §9.1 (quadratic VCI: Chen, Hillman & Rüter 2013, not from 001)",
+               "KBM si with quadratic VCI: the displacement rate close to 2 that 001 states for "
+               "KBM si",
+               std::string("kbm-si vci=quadratic: the L2 rate of the finest pair in [1.7, 2.3] "
+                           "and ") + kConvergesCriterion,
+               [](const std::vector<StudySummary>& all) -> Verdict {
+                 const auto k = of(all, "kbm-si", false, "quadratic");
+                 if (k.empty()) return not_run("kbm-si vci=quadratic");
+                 const auto& pw = k[0]->l2_trend.pairwise;
+                 const double last = pw.empty() ? NAN : pw.back();
+                 const bool ok = last >= 1.7 && last <= 2.3 && k[0]->l2_trend.converges();
+                 return {ok ? "reproduced under a stated reading" : "not reproduced",
+                         fmt::format("{}; finest-pair L2 rate {:.2f}", describe(*k[0]), last)};
+               },
+               "kbm-si-rate-vci-quadratic"});
   return f;
 }
 

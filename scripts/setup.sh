@@ -11,7 +11,7 @@ packages=(
   voro++-dev libsuitesparse-dev libspectra-dev
   petsc-dev openmpi-bin
   gnuplot-nox
-  python3-jsonschema
+  python3-jsonschema python3-numpy python3-scipy
   python3-pysph
   libxml2-utils libsqlite3-dev
 )

@@ -1,4 +1,5 @@
 #include "verify/ledger.hpp"
+#include "verify/reference_studies.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,11 @@ class Reporter {
   explicit Reporter(std::string file) : file_(std::move(file)) {}
   [[noreturn]] void fail(int line, const std::string& what, const std::string& fix) const {
     throw InputError(fmt::format("{}:{}: {}; {}", file_, line, what, fix));
+  }
+  /// A path the ledger names, relative to the ledger's directory.
+  std::filesystem::path resolve(const std::string& p) const {
+    const std::filesystem::path path(p);
+    return path.is_absolute() ? path : std::filesystem::path(file_).parent_path() / path;
   }
 
  private:
@@ -392,6 +398,19 @@ std::shared_ptr<const LedgerRow> variant_of(const Reporter& r, const LedgerRow& 
       check_finding_cases(r, *v, manifest);
     }
   }
+  if (t.get("reference")) {
+    v->reference = r.resolve(get_string(r, t, "reference", true, v->line));
+    if (const auto* st = t.get("studies")) v->reference_studies = get_strings(r, *st, "studies");
+    v->cases.clear();
+    try {
+      (void)load_reference_studies(v->reference, v->reference_studies);
+    } catch (const InputError& e) {
+      r.fail(v->line, e.what(), "fix the reference file or the check's studies");
+    }
+  } else if (t.get("studies")) {
+    r.fail(v->line, "'studies' names studies of a reference file, and the check names none",
+           "add reference = \"<file>\" or drop studies");
+  }
   if (const auto* n = t.get("nodes")) {
     v->nodes = get_nodes(r, *n);
     if (v->nodes.size() != v->paper.size())
@@ -433,7 +452,11 @@ std::vector<LedgerCheck> parse_checks(const Reporter& r, const LedgerRow& base,
     else
       r.fail(c.line, fmt::format("check kind = \"{}\" is not known", kind),
              "write kind = \"independent\" (a second route) or \"converged\" (refinement)");
-    c.row = variant_of(r, base, t, "check", {"kind", "route"}, manifest, catalogue);
+    std::vector<std::string> own = {"kind", "route"};
+    // A finding judged on an independent implementation's recorded studies
+    // (verify/reference_studies.hpp): the second route that shares no code with ours.
+    if (base.kind == LedgerRow::Kind::finding) own.insert(own.end(), {"reference", "studies"});
+    c.row = variant_of(r, base, t, "check", own, manifest, catalogue);
     if (t.size() == 2)
       r.fail(c.line, fmt::format("a check of row '{}' replaces nothing: it would repeat the "
                                  "reading", base.id),
@@ -637,14 +660,17 @@ namespace {
 
 /// Rank of a verdict for choosing the closest reading (lower is closer).
 int verdict_rank(const std::string& v) {
-  static const std::vector<std::string> order = {kReproduced, kPartly, kNotReproduced,
-                                                 kNotReached, kNotRun, kNotYetBuilt};
+  static const std::vector<std::string> order = {kReproduced,    kReproducedReading, kPartly,
+                                                 kNotReproduced, kNotReached,        kNotRun,
+                                                 kNotYetBuilt};
   const auto it = std::find(order.begin(), order.end(), v);
   return static_cast<int>(it - order.begin());
 }
 
+/// A verdict from a comparison with the paper (a finding may return "reproduced under a
+/// stated reading" itself: a compared verdict too, whose checks count as evidence).
 bool compared_verdict(const std::string& v) {
-  return v == kReproduced || v == kPartly || v == kNotReproduced;
+  return v == kReproduced || v == kReproducedReading || v == kPartly || v == kNotReproduced;
 }
 
 /// The largest distance of ours from the paper over a reading's values (see
@@ -759,6 +785,15 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       }
       e.criterion = f->criterion;
       std::vector<StudyResult> studies;
+      // An independent implementation's studies (checked readable when the ledger loaded).
+      if (!row.reference.empty()) {
+        const Verdict v = f->check(
+            summarize(catalogue, load_reference_studies(row.reference, row.reference_studies)));
+        e.ours_text = fmt::format("independent ({}): {}", row.reference.filename().string(), v.ours);
+        e.verdict = v.status == "not run" ? std::string(kNotRun) : v.status;
+        if (e.verdict == kNotRun && e.why.empty()) e.why = v.ours;
+        break;
+      }
       // Named cases: the finding is judged on those studies only (a paper's own method or
       // particle counts); each must have run.
       if (!row.cases.empty()) {

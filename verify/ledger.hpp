@@ -71,6 +71,10 @@
 //   kind = "independent"                 # or "converged"
 //   route = "closed form: …"             # required: what the second computation is
 //   case = "..."                         # the same overrides as a try
+//   reference = "../tests/reference/x.json"  # finding rows: judged on an independent
+//   studies = ["kbm-si (independent)"]   # implementation's recorded studies instead of cases
+//                                        # (verify/reference_studies.hpp; the path relative
+//                                        # to the ledger; studies: their labels, default all)
 // A value check agrees when each of its values is within the row's tolerance of ours (ratio
 // or difference as the row compares); a finding check when its verdict is ours. The evidence
 // is "independent" when an independent check agrees, else "converged" when a converged one
@@ -148,6 +152,11 @@ struct LedgerRow {
   std::string measure;  ///< measure rows
   RateStatistic statistic = RateStatistic::least_squares;  ///< measure rows of a rate
   std::string finding;  ///< finding rows: the Finding::id
+  /// A check of a finding row judged on an independent implementation's recorded studies
+  /// (verify/reference_studies.hpp) instead of cases: the file (resolved against the ledger's
+  /// directory) and the labels of its studies (empty: all).
+  std::filesystem::path reference;
+  std::vector<std::string> reference_studies;
   std::vector<LedgerReading> tries;  ///< the other readings tried (the reading search)
   std::vector<LedgerCheck> checks;   ///< evidence for the row's own reading
 };

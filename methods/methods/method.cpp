@@ -164,7 +164,8 @@ std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe) {
 }
 
 std::unique_ptr<Method> vci_if_asked(const Params& p, std::unique_ptr<Method> method) {
-  return p.has("vci") && p.text("vci") == "true" ? with_vci(std::move(method)) : std::move(method);
+  if (!p.has("vci") || p.text("vci") == "false") return method;
+  return with_vci(std::move(method), vci_order_from(p.text("vci")));
 }
 
 ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential_choice) {
@@ -177,10 +178,13 @@ ParamSchema particle_method_schema(const KernelRegistry& kernels, bool essential
       ParamSpec::number("radius", 0.0,
                         "fixed support radius (length units) for every resolution, 001 Fig. 7; "
                         "0: dmax times the spacing"),
-      ParamSpec::choice("vci", "false", {"false", "true"},
+      ParamSpec::choice("vci", "false", {"false", "true", "linear", "quadratic"},
                         "variationally consistent integration (Chen, Hillman & Ruter 2013, not "
-                        "in 001): one constant correction of the test gradients per particle so "
-                        "the quadrature satisfies the divergence identity"),
+                        "in 001): true = linear, one constant correction of the test gradients "
+                        "per particle so the quadrature satisfies the divergence identity; "
+                        "quadratic, a linear correction that satisfies the second identity too "
+                        "(the one a linear stress needs: kbm's Shepard tests converge with it, "
+                        "issue 43)"),
   })
     s.push_back(std::move(spec));
   if (essential_choice) {
