@@ -781,7 +781,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
           fmt::format("# Reproduction ledger: {}\n\n[Back to the report](index.md)\n\n{}\n\n"
                       "**{}**\n\n{}\n",
                       manifest.name, legend, verdict_counts_line(entries),
-                      ledger_markdown(entries)));
+                      ledger_markdown(entries) + ledger_sources_markdown(*ledger, entries)));
     }
     // 4. Regression: the status and what failed here, every case on regression.md.
     const std::string regression_note =

@@ -253,7 +253,21 @@ INSTANTIATE_TEST_SUITE_P(
         BadRow{"paper count", replace(kGoodRows, "paper = [3.3168, 6.0343]", "paper = [3.3168]"),
                "1 paper value(s) for 2"},
         BadRow{"bad measure", replace(kGoodRows, "l2_rate", "l3_rate"), "unknown measure"},
-        BadRow{"syntax", "[[row]\nid = 1\n", "ledger.toml:"}),
+        BadRow{"syntax", "[[row]\nid = 1\n", "ledger.toml:"},
+        BadRow{"source without rows", std::string(kGoodRows) + "[[source]]\nname = \"T\"\nquote = \"q\"\n",
+               "names no rows"},
+        BadRow{"source matching nothing",
+               std::string(kGoodRows) + "[[source]]\nname = \"T\"\nquote = \"q\"\nrows = [\"x*\"]\n",
+               "matches no row"},
+        BadRow{"source reading no row tries",
+               std::string(kGoodRows) +
+                   "[[source]]\nname = \"T\"\nquote = \"q\"\nrows = [\"t1-fem\"]\nreading = \"z\"\n",
+               "does not try"},
+        BadRow{"row in two sources",
+               std::string(kGoodRows) +
+                   "[[source]]\nname = \"T\"\nquote = \"q\"\nrows = [\"t1-fem\"]\n"
+                   "[[source]]\nname = \"U\"\nquote = \"q\"\nrows = [\"t*\"]\n",
+               "is in source 'T' and 'U'"}),
     [](const auto& info) {
       std::string s = info.param.name;
       for (auto& ch : s)
@@ -420,6 +434,86 @@ TEST(LedgerReadings, TheClosestReadingGivesTheVerdictAndIsNamed) {
   e = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&far, ""}}})[0];
   EXPECT_EQ(e.verdict, kPartly);
   EXPECT_EQ(e.readings[1].verdict, kNotRun);
+}
+
+/// Issue 43: a [[source]] judges every row of a table under one reading, chosen from the
+/// text; a try that reproduces one row and not its sibling is reported, never counted.
+TEST(LedgerSources, OneReadingForEveryRowOfTheSource) {
+  const std::string second = R"(
+[[row]]
+id = "t1-fem-81"
+source = "004 II §7, Table 1"
+claim = "FEM peak at 81"
+case = "fem"
+published = "004 II Table 1"
+quantity = "peak du/dx at x=3"
+nodes = [81]
+paper = [8.4687]
+tolerance = 0.01
+quote = "“the peak values of u_x are compared”"
+)";
+  const std::string rows = row_with(kTryB) + second + kTryB;
+  const StudyResult own = fake_study("laplace-tanh", {21, 41, 81}, {3.32, 9.0, 9.0}, 1.0);
+  const StudyResult b = fake_study("laplace-tanh", {21, 41, 81}, {3.3168, 6.0343, 9.0}, 2.0);
+  {
+    // Without a source each row takes its closest reading: the try passes the first row.
+    const Fixture f(rows);
+    const auto e = evaluate_ledger(f.load(), f.catalogue, f.manifest, ran_two(own, b));
+    EXPECT_EQ(e[0].verdict, kReproducedReading);
+    EXPECT_EQ(e[1].verdict, kNotReproduced);
+  }
+  const Fixture f(rows + R"(
+[[source]]
+name = "Table 1"
+rows = ["t1-fem*"]
+quote = "“the peak values”"
+pairs = [["t1-fem", "t1-fem-81"]]
+)");
+  const Ledger l = f.load();
+  ASSERT_EQ(l.sources.size(), 1u);
+  EXPECT_EQ(l.sources[0].rows, (std::vector<std::string>{"t1-fem", "t1-fem-81"}));
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(own, b));
+  EXPECT_EQ(e[0].verdict, kPartly) << "the source's reading is the row's own";
+  EXPECT_EQ(e[0].chosen, 0u);
+  EXPECT_NE(e[0].why.find("one reading for Table 1"), std::string::npos) << e[0].why;
+  const std::string md = ledger_sources_markdown(l, e);
+  EXPECT_NE(md.find("### Table 1"), std::string::npos) << md;
+  EXPECT_NE(md.find("study b (1 of 2)"), std::string::npos) << md;
+  EXPECT_NE(md.find("t1-fem-81 / t1-fem"), std::string::npos) << md;
+  // A source that names the try reads every row under it.
+  const Fixture g(rows + R"(
+[[source]]
+name = "Table 1"
+rows = ["t1-fem", "t1-fem-81"]
+reading = "study b"
+quote = "“five different discretizations”"
+)");
+  const auto eg = evaluate_ledger(g.load(), g.catalogue, g.manifest, ran_two(own, b));
+  EXPECT_EQ(eg[0].verdict, kReproducedReading);
+  EXPECT_EQ(eg[1].verdict, kNotReproduced);
+  EXPECT_EQ(eg[1].chosen, 1u);
+}
+
+TEST(LedgerEvidence, AConvergedCheckThatDisagreesVetoesTheOneThatAgrees) {
+  const Fixture f(row_with(R"(
+[[row.check]]
+kind = "converged"
+route = "the next resolution"
+case = "fem-b"
+
+[[row.check]]
+kind = "converged"
+route = "the same study again"
+case = "fem"
+)"));
+  const Ledger l = f.load();
+  const StudyResult a = fake_study("laplace-tanh", {21, 41}, {3.3168, 6.0343}, 1.0);
+  const StudyResult off = fake_study("laplace-tanh", {21, 41, 81}, {3.32, 6.5, 9}, 1.0);
+  const auto e = evaluate_ledger(l, f.catalogue, f.manifest, ran_two(a, off))[0];
+  ASSERT_EQ(e.readings[0].checks.size(), 2u);
+  EXPECT_FALSE(e.readings[0].checks[0].agrees);
+  EXPECT_TRUE(e.readings[0].checks[1].agrees);
+  EXPECT_EQ(e.evidence, kEvidenceSingle);
 }
 
 TEST(LedgerReadings, AmongPartlyReadingsTheNearestWins) {

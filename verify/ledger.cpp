@@ -2,7 +2,10 @@
 #include "verify/reference_studies.hpp"
 
 #include <algorithm>
+#include <fnmatch.h>
+
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -500,6 +503,91 @@ std::vector<LedgerReading> parse_tries(const Reporter& r, const LedgerRow& base,
   return out;
 }
 
+/// The [[source]] tables (LedgerSource): names unique, row globs resolved in ledger order,
+/// each row in one source at most, a named reading tried by every row of its source.
+std::vector<LedgerSource> parse_sources(const Reporter& r, const toml::node* node,
+                                        const std::vector<LedgerRow>& rows) {
+  std::vector<LedgerSource> out;
+  if (!node) return out;
+  const auto* a = node->as_array();
+  if (!a || !a->is_array_of_tables())
+    r.fail(line_of(*node), "'source' must be [[source]] tables",
+           "write each source judged under one reading as [[source]]");
+  static const std::vector<std::string> keys = {"name", "rows", "reading", "quote", "pairs"};
+  std::set<std::string> names;
+  std::map<std::string, std::string> owner;  // row id → source
+  for (const auto& n : *a) {
+    const auto& t = *n.as_table();
+    LedgerSource src;
+    src.line = line_of(n);
+    for (const auto& [k, v] : t)
+      if (std::find(keys.begin(), keys.end(), std::string(k.str())) == keys.end())
+        r.fail(line_of(v), fmt::format("unknown key '{}' in a [[source]]", k.str()),
+               fmt::format("valid keys: {}", fmt::join(keys, ", ")));
+    src.name = get_string(r, t, "name", true, src.line);
+    if (!names.insert(src.name).second)
+      r.fail(src.line, fmt::format("two [[source]] tables are named '{}'", src.name),
+             "give each source one table");
+    src.reading = get_string(r, t, "reading", false, src.line);
+    src.quote = get_string(r, t, "quote", true, src.line);
+    const toml::node* rn = t.get("rows");
+    if (!rn)
+      r.fail(src.line, fmt::format("source '{}' names no rows", src.name),
+             "add rows = [\"<id or glob>\", ...]");
+    const std::vector<std::string> patterns = get_strings(r, *rn, "rows");
+    for (const auto& pattern : patterns) {
+      int matched = 0;
+      for (const auto& row : rows) {
+        if (fnmatch(pattern.c_str(), row.id.c_str(), 0) != 0) continue;
+        ++matched;
+        if (std::find(src.rows.begin(), src.rows.end(), row.id) != src.rows.end()) continue;
+        if (const auto o = owner.find(row.id); o != owner.end())
+          r.fail(src.line, fmt::format("row '{}' is in source '{}' and '{}'", row.id, o->second,
+                                       src.name),
+                 "a row is judged under one source's reading: name it in one [[source]]");
+        if (row.kind == LedgerRow::Kind::open)
+          r.fail(src.line, fmt::format("source '{}' names the open row '{}'", src.name, row.id),
+                 "an open row has no reading to judge");
+        if (!src.reading.empty() &&
+            std::none_of(row.tries.begin(), row.tries.end(), [&](const LedgerReading& t) {
+              return t.name == src.reading && !t.fitted;
+            }))
+          r.fail(src.line, fmt::format("source '{}' reads every row as '{}', which row '{}' "
+                                       "does not try (or tries as fitted)",
+                                       src.name, src.reading, row.id),
+                 "add the [[row.try]] to every row of the source, or leave reading empty");
+        owner[row.id] = src.name;
+        src.rows.push_back(row.id);
+      }
+      if (matched == 0)
+        r.fail(src.line, fmt::format("source '{}': '{}' matches no row", src.name, pattern),
+               "name row ids of this ledger");
+    }
+    // Ledger order, whatever the order of the patterns.
+    std::vector<std::string> ordered;
+    for (const auto& row : rows)
+      if (std::find(src.rows.begin(), src.rows.end(), row.id) != src.rows.end())
+        ordered.push_back(row.id);
+    src.rows = std::move(ordered);
+    if (const toml::node* pn = t.get("pairs")) {
+      const auto* pa = pn->as_array();
+      if (!pa) r.fail(line_of(*pn), "'pairs' must be an array of [first, second] row ids",
+                      "write pairs = [[\"a\", \"b\"]]");
+      for (const auto& e : *pa) {
+        const std::vector<std::string> p = get_strings(r, e, "pairs entry");
+        if (p.size() != 2 || std::find(src.rows.begin(), src.rows.end(), p[0]) == src.rows.end() ||
+            std::find(src.rows.begin(), src.rows.end(), p[1]) == src.rows.end())
+          r.fail(line_of(e), fmt::format("a pair of source '{}' must name two of its rows",
+                                         src.name),
+                 "write [\"<first row id>\", \"<second row id>\"]");
+        src.pairs.emplace_back(p[0], p[1]);
+      }
+    }
+    out.push_back(std::move(src));
+  }
+  return out;
+}
+
 }  // namespace
 
 Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
@@ -515,9 +603,9 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
            "fix the TOML syntax (" + std::string(kFormatHint) + ")");
   }
   for (const auto& [k, v] : doc)
-    if (k.str() != "row")
+    if (k.str() != "row" && k.str() != "source")
       r.fail(line_of(v), fmt::format("unknown top-level key '{}'", k.str()),
-             "the ledger holds only [[row]] tables");
+             "the ledger holds [[row]] and [[source]] tables");
   const toml::array* rows = doc["row"].as_array();
   if (!rows || rows->empty())
     r.fail(1, "the ledger has no [[row]]", "add one [[row]] per claim of the papers");
@@ -653,6 +741,7 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
              "add quote = \"<the paper's words>\" (or reading = \"…\") to the row");
     ledger.rows.push_back(std::move(row));
   }
+  ledger.sources = parse_sources(r, doc.get("source"), ledger.rows);
   return ledger;
 }
 
@@ -858,7 +947,10 @@ bool check_agrees(const LedgerCheckOutcome& c, const LedgerReadingOutcome& o) {
 void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& checks,
                      const Registries& catalogue, const Manifest& manifest,
                      const std::map<std::string, CaseOutcome>& ran) {
-  bool independent = false, converged = false;
+  // A kind of evidence holds when a check of that kind agrees and none that ran disagrees:
+  // "converged" means the finer runs moved ours less than the tolerance, every one of them
+  // (issue 43), not that one of several did.
+  bool independent = false, converged = false, independent_veto = false, converged_veto = false;
   for (const auto& check : checks) {
     const LedgerReadingOutcome m = measure_reading(*check.row, catalogue, manifest, ran);
     LedgerCheckOutcome c;
@@ -867,9 +959,14 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
     c.ours_text = m.ours_text.empty() ? m.why : m.ours_text;
     c.verdict = m.verdict;
     c.agrees = check_agrees(c, o);
-    if (c.agrees) (check.kind == LedgerCheck::Kind::independent ? independent : converged) = true;
+    const bool ran_check = compared_verdict(m.verdict) || m.verdict == kNotReached;
+    const bool is_independent = check.kind == LedgerCheck::Kind::independent;
+    if (c.agrees) (is_independent ? independent : converged) = true;
+    else if (ran_check) (is_independent ? independent_veto : converged_veto) = true;
     o.checks.push_back(std::move(c));
   }
+  independent = independent && !independent_veto;
+  converged = converged && !converged_veto;
   const bool ran_at_all = compared_verdict(o.verdict) || o.verdict == kNotReached;
   o.evidence = !ran_at_all  ? "–"
                : independent ? kEvidenceIndependent
@@ -888,9 +985,13 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
                                          const Manifest& manifest,
                                          const std::map<std::string, CaseOutcome>& ran) {
   std::vector<LedgerEntry> out;
+  std::map<std::string, const LedgerSource*> source_of;
+  for (const auto& src : ledger.sources)
+    for (const auto& id : src.rows) source_of[id] = &src;
   for (const auto& row : ledger.rows) {
     LedgerEntry e;
     e.row = &row;
+    if (const auto s = source_of.find(row.id); s != source_of.end()) e.source = s->second;
     e.readings.push_back(measure_reading(row, catalogue, manifest, ran));
     evaluate_checks(e.readings.back(), row.checks, catalogue, manifest, ran);
     for (const auto& t : row.tries) {
@@ -898,9 +999,13 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
       e.readings.back().reading = &t;
       evaluate_checks(e.readings.back(), t.checks, catalogue, manifest, ran);
     }
-    // The closest counted reading: best verdict, then smallest distance; the row's own
-    // reading wins a tie (it comes first).
-    for (std::size_t i = 1; i < e.readings.size(); ++i) {
+    // In a source: the source's one reading, chosen from the text before comparing.
+    // Otherwise the closest counted reading: best verdict, then smallest distance; the row's
+    // own reading wins a tie (it comes first).
+    if (e.source && !e.source->reading.empty())
+      for (std::size_t i = 1; i < e.readings.size(); ++i)
+        if (e.readings[i].reading->name == e.source->reading) e.chosen = i;
+    for (std::size_t i = 1; i < e.readings.size() && !e.source; ++i) {
       const auto& a = e.readings[i];
       const auto& b = e.readings[e.chosen];
       if (a.reading->fitted) continue;
@@ -924,12 +1029,16 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
         e.verdict != kNotYetBuilt && e.verdict != kNotRun) {
       std::vector<std::string> parts;
       if (const std::string gap = gap_text(e); !gap.empty()) parts.push_back("gap " + gap);
-      if (c.reading) parts.push_back("closest reading: " + c.reading->name);
+      if (e.source)
+        parts.push_back(fmt::format("one reading for {}: {}", e.source->name, e.reading));
+      else if (c.reading)
+        parts.push_back("closest reading: " + c.reading->name);
       if (!e.why.empty()) parts.push_back(e.why);
       if (!row.reason.empty()) parts.push_back(row.reason);
       e.why = fmt::format("{}", fmt::join(parts, "; "));
     } else if (e.verdict == kReproducedReading) {
-      e.why = "reading: " + e.reading;
+      e.why = e.source ? fmt::format("one reading for {}: {}", e.source->name, e.reading)
+                       : "reading: " + e.reading;
     }
     out.push_back(std::move(e));
   }

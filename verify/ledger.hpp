@@ -60,10 +60,12 @@
 //   statistic = "best_pair"              # measure, statistic, quantity (another headline of
 //                                        # the case), finding, problem_params (and, for
 //                                        # finding rows, cases)
-// The verdict is that of the closest reading that is not fitted: the best verdict (reproduced,
-// partly, not reproduced, not reached), then the smallest largest |ln(ours/paper)| (ratio
-// rows) or |ours − paper|/tolerance (difference rows); the row's own reading wins a tie. A
-// try that reproduces makes the row "reproduced under a stated reading" and is named.
+// The verdict of a row in a [[source]] (below: one reading for a whole table or figure) is
+// that of the source's reading. Otherwise it is that of the closest reading that is not
+// fitted: the best verdict (reproduced, partly, not reproduced, not reached), then the
+// smallest largest |ln(ours/paper)| (ratio rows) or |ours − paper|/tolerance (difference
+// rows); the row's own reading wins a tie. A try that reproduces makes the row "reproduced
+// under a stated reading" and is named.
 //
 // Evidence, how sure ours is: checks compute the chosen reading's value by a second route.
 //   [[row.check]]                        # a check of the row's own reading;
@@ -77,9 +79,10 @@
 //                                        # to the ledger; studies: their labels, default all)
 // A value check agrees when each of its values is within the row's tolerance of ours (ratio
 // or difference as the row compares); a finding check when its verdict is ours. The evidence
-// is "independent" when an independent check agrees, else "converged" when a converged one
-// does (a finer resolution, quadrature or time step moved ours by less than the tolerance),
-// else "single run"; a check that disagrees is listed with its value.
+// is "independent" when an independent check agrees and none that ran disagrees, else
+// "converged" when a converged one does and none that ran disagrees (every finer resolution,
+// quadrature or time step moved ours by less than the tolerance), else "single run"; a check
+// that disagrees is listed with its value.
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -161,9 +164,30 @@ struct LedgerRow {
   std::vector<LedgerCheck> checks;   ///< evidence for the row's own reading
 };
 
+/// One reading for a whole source, a table or figure of a paper (issue 43): where the text
+/// leaves a choice open, the reading is chosen for the source from its quoted text before the
+/// values are compared, and every row of the source is judged under it. The other readings
+/// the rows try are reported per row and per source (how many rows each reproduces), never
+/// counted: a reading that passes one row and fails its sibling is not a reading of the table.
+///   [[source]]
+///   name = "001 Table 3"                  # required, unique
+///   rows = ["001-T3-*-1Lc", "001-T3-*-2Lc"]  # required: row ids or globs, each row in one source
+///   reading = ""                          # optional: a [[row.try]] name every row has; empty
+///                                         # (the default): each row's own reading
+///   quote = "“…” (001 §9.2)"              # required: the text the reading is chosen from
+///   pairs = [["001-T3-sph-1Lc", "001-T3-sph-2Lc"]]  # optional: rows whose ratio (second over
+///                                         # first, ours beside the paper's) the page shows per reading
+struct LedgerSource {
+  std::string name, reading, quote;
+  std::vector<std::string> rows;  ///< row ids, in ledger order
+  std::vector<std::pair<std::string, std::string>> pairs;
+  int line = 0;
+};
+
 struct Ledger {
   std::filesystem::path path;
   std::vector<LedgerRow> rows;
+  std::vector<LedgerSource> sources;
 };
 
 /// Reads and checks a ledger against the manifest (every case it names exists) and the
@@ -223,6 +247,8 @@ struct LedgerEntry {
   std::string reading;            ///< the name of the reading the verdict comes from
   std::vector<LedgerReadingOutcome> readings;  ///< [0] the row's own, then every try
   std::size_t chosen = 0;         ///< index into readings
+  /// The [[source]] whose one reading the row is judged under (null: the row alone).
+  const LedgerSource* source = nullptr;
 };
 
 /// Evaluates every row on the cases that ran (`ran`: case id → outcome; a case absent from
@@ -251,6 +277,12 @@ std::string ledger_counts_markdown(const std::vector<LedgerEntry>& entries);
 /// ledger.csv (RFC 4180 quoting): a row per claim, with its evidence, the reading its verdict
 /// comes from, and every reading and check tried with its values.
 std::string ledger_csv(const std::vector<LedgerEntry>& entries);
+/// The sources judged under one reading (ledger.md's section, verify/ledger_sources.cpp): per
+/// source the reading and the text it rests on, then every reading its rows tried with each
+/// row's value, ratio and verdict under it, how many rows it reproduces, the readings that
+/// pass some rows and fail others (reported, not counted), and the pairs' ratios. "" when the
+/// ledger has no [[source]].
+std::string ledger_sources_markdown(const Ledger& ledger, const std::vector<LedgerEntry>& entries);
 
 /// Our value of a published quantity in one case: "error u" is the relative L2 error on the
 /// common rule, "error du/dx" the relative H1 seminorm, anything else a headline (NaN if absent).
