@@ -514,6 +514,10 @@ case = "fem"
   EXPECT_FALSE(e.readings[0].checks[0].agrees);
   EXPECT_TRUE(e.readings[0].checks[1].agrees);
   EXPECT_EQ(e.evidence, kEvidenceSingle);
+  // Reproduced at the row's resolution but not by the finer run: not counted as reproduced.
+  EXPECT_EQ(e.verdict, kPartly);
+  EXPECT_NE(e.why.find("not under refinement: the next resolution gives"), std::string::npos)
+      << e.why;
 }
 
 TEST(LedgerReadings, AmongPartlyReadingsTheNearestWins) {

@@ -967,6 +967,17 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
   }
   independent = independent && !independent_veto;
   converged = converged && !converged_veto;
+  // A reproduction that a finer run does not confirm is not counted as one: the value has not
+  // converged (issue 43). It stays "partly", the disagreeing check named.
+  if (converged_veto && (o.verdict == kReproduced || o.verdict == kReproducedReading)) {
+    std::vector<std::string> routes;
+    for (const auto& c : o.checks)
+      if (c.check->kind == LedgerCheck::Kind::converged && !c.agrees &&
+          (compared_verdict(c.verdict) || c.verdict == kNotReached))
+        routes.push_back(fmt::format("{} gives {}", c.check->route, c.verdict));
+    o.verdict = kPartly;
+    o.why = fmt::format("reproduced here, not under refinement: {}", fmt::join(routes, "; "));
+  }
   const bool ran_at_all = compared_verdict(o.verdict) || o.verdict == kNotReached;
   o.evidence = !ran_at_all  ? "–"
                : independent ? kEvidenceIndependent

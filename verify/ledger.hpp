@@ -82,7 +82,8 @@
 // is "independent" when an independent check agrees and none that ran disagrees, else
 // "converged" when a converged one does and none that ran disagrees (every finer resolution,
 // quadrature or time step moved ours by less than the tolerance), else "single run"; a check
-// that disagrees is listed with its value.
+// that disagrees is listed with its value. A reading that reproduces while a converged check
+// that ran disagrees is "partly" (reproduced at its resolution, not under refinement).
 #include <filesystem>
 #include <map>
 #include <memory>
