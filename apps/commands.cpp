@@ -23,6 +23,7 @@
 #include "methods/core/names.hpp"
 #include "reports/atomic.hpp"
 #include "reports/convergence_table.hpp"
+#include "reports/uncertainty.hpp"
 #include "reports/markdown.hpp"
 #include "analyses/report_section.hpp"
 #include "analyses/external_comparison.hpp"
@@ -145,7 +146,22 @@ std::string convergence_table(const Registries& plugins, const StudyResult& s) {
   }
   fit.push_back(fmt::format("{:.3f}", cpu));
   t.add_row(std::move(fit));
-  return fmt::format("{}\n\n{}", s.label, t.str());
+  // Beside the rates, the grid convergence index of each finest error (Roache; Celik et al.
+  // 2008; reports/uncertainty.hpp): how sure the finest error itself is.
+  std::string gci;
+  if (s.cases.size() >= 2) {
+    std::vector<std::string> parts;
+    std::vector<double> h;
+    for (const auto& r : s.cases) h.push_back(r.h);
+    for (const auto& n : norms) {
+      std::vector<double> e;
+      for (const auto& r : s.cases) e.push_back(r.errors.*n.rel);
+      parts.push_back(fmt::format("{} {}", n.name, grid_uncertainty(h, e).text()));
+    }
+    gci = fmt::format("\nfinest errors' uncertainty (GCI of the last three resolutions): {}\n",
+                      fmt::join(parts, "; "));
+  }
+  return fmt::format("{}\n\n{}{}", s.label, t.str(), gci);
 }
 
 

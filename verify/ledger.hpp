@@ -73,6 +73,9 @@
 //   kind = "independent"                 # or "converged"
 //   route = "closed form: …"             # required: what the second computation is
 //   case = "..."                         # the same overrides as a try
+//   refinement = 2, order = 2            # converged checks: h over the check's h, and the
+//                                        # formal order (the two-level GCI of a value of one
+//                                        # resolution; defaults 2 and 1)
 //   reference = "../tests/reference/x.json"  # finding rows: judged on an independent
 //   studies = ["kbm-si (independent)"]   # implementation's recorded studies instead of cases
 //                                        # (verify/reference_studies.hpp; the path relative
@@ -94,6 +97,7 @@
 #include "methods/core/params.hpp"
 #include "analyses/case.hpp"
 #include "problems/comparison.hpp"
+#include "reports/uncertainty.hpp"
 
 namespace mfv {
 
@@ -122,6 +126,10 @@ struct LedgerCheck {
   Kind kind = Kind::converged;
   std::string route;  ///< what the second computation is
   int line = 0;
+  /// A converged check: how much finer its run is than the reading's (h over the check's h,
+  /// e.g. 2 for half the step) and the formal order of what it refines: the two-level GCI of
+  /// a single-resolution value (defaults 2 and 1: r^p = 2, stated as assumed).
+  double refinement = 2, order = 1;
   std::shared_ptr<const LedgerRow> row;  ///< the reading with the check's replacements
 };
 
@@ -225,6 +233,14 @@ struct LedgerReadingOutcome {
   double distance = 0;
   std::vector<LedgerCheckOutcome> checks;
   std::string evidence;  ///< kEvidence*, or "–" when the reading did not run
+  /// Per value: its discretization uncertainty (reports/uncertainty.hpp) from the study's
+  /// resolutions up to it (a rate: from its pairwise rates), or, with a single level, from
+  /// the first converged check's value (two levels, F_s = 3, the check's refinement and
+  /// order); `why_none` says why not (a finding has no number).
+  std::vector<Uncertainty> uncertainty;
+  /// Per value: whether the paper's value lies inside ours ± (U + tolerance); false when U is
+  /// not known.
+  std::vector<bool> paper_inside;
   /// The reading's name: the try's, the row's stated reading, or "as printed".
   std::string name() const;
 };

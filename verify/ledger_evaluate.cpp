@@ -1,5 +1,6 @@
 #include "verify/ledger.hpp"
 #include "verify/ledger_internal.hpp"
+#include "reports/uncertainty.hpp"
 #include "verify/reference_studies.hpp"
 
 #include <algorithm>
@@ -185,6 +186,31 @@ double distance_of(const LedgerReadingOutcome& o) {
   return d;
 }
 
+/// The uncertainty of a measure of a study: a rate's from its pairwise rates (each at the
+/// geometric mean spacing of its pair: the sequence the asymptotic order is the limit of), a
+/// headline's from its values over the resolutions.
+Uncertainty measure_uncertainty(const StudyResult& s, const std::string& measure) {
+  std::vector<double> hs, vs;
+  const char* column = measure == "l2_rate"       ? kRateL2
+                       : measure == "h1_rate"     ? kRateH1Semi
+                       : measure == "energy_rate" ? kRateEnergy
+                                                  : nullptr;
+  if (column) {
+    const auto& pairs = s.rates.pairwise_of(column);
+    for (std::size_t k = 0; k < pairs.size() && k + 1 < s.cases.size(); ++k) {
+      hs.push_back(std::sqrt(s.cases[k].h * s.cases[k + 1].h));
+      vs.push_back(pairs[k]);
+    }
+  } else if (measure.rfind("headline:", 0) == 0) {
+    for (const auto& c : s.cases) {
+      const auto it = c.headline.find(measure.substr(9));
+      hs.push_back(c.h);
+      vs.push_back(it == c.headline.end() ? NAN : it->second);
+    }
+  }
+  return grid_uncertainty(hs, vs);
+}
+
 /// One reading's values and verdict against the paper, before a stated reading is named.
 LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& catalogue,
                                      const Manifest& manifest,
@@ -223,6 +249,12 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
         if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
         e.ours.push_back(ours);
         e.compared.push_back(compare_row(ours, row.paper[i], row));
+        // A value at the paper's own resolution is compared as computed there: its
+        // uncertainty is that of the quadrature, step or solver, from a converged check
+        // (evaluate_checks), not the particle refinement's distance to the continuum.
+        Uncertainty none;
+        none.why_none = "a value at the paper's resolution and no converged check of it";
+        e.uncertainty.push_back(none);
       }
       e.verdict = combine(e.compared);
       if (!it->second.study)
@@ -235,14 +267,19 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
     }
     case LedgerRow::Kind::measure: {
       double best = NAN;
+      const StudyResult* from = nullptr;
       std::vector<std::string> not_run, failed;
       for (const auto& id : row.cases) {
         const auto it = ran.find(id);
         if (it == ran.end()) { not_run.push_back(id); continue; }
         if (!it->second.study) { failed.push_back(id); continue; }
         const double v = measure_value(*it->second.study, row.measure, row.statistic);
-        if (std::isfinite(v) && !(v <= best)) best = v;
+        if (std::isfinite(v) && !(v <= best)) {
+          best = v;
+          from = &*it->second.study;
+        }
       }
+      if (from) e.uncertainty = {measure_uncertainty(*from, row.measure)};
       if (!not_run.empty()) {
         e.verdict = kNotRun;
         e.why = not_run.size() == 1 ? fmt::format("case {} did not run in this invocation", not_run[0])
@@ -366,6 +403,62 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
   }
   independent = independent && !independent_veto;
   converged = converged && !converged_veto;
+  // A value of one resolution: its uncertainty from the first converged check that ran, two
+  // levels (F_s = 3): U = 3 |ours − check| r^p / (r^p − 1), the coarse level's GCI.
+  const LedgerRow& row = *o.row;
+  if (row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure) {
+    o.uncertainty.resize(o.ours.size());
+    for (std::size_t i = 0; i < o.ours.size(); ++i) {
+      if (o.uncertainty[i].levels >= 2 || !std::isfinite(o.ours[i])) continue;
+      if (row.kind == LedgerRow::Kind::published) o.uncertainty[i] = Uncertainty{};
+      for (const auto& c : o.checks) {
+        if (c.check->kind != LedgerCheck::Kind::converged || c.values.size() != o.ours.size() ||
+            !std::isfinite(c.values[i]))
+          continue;
+        const double rp = std::pow(c.check->refinement, c.check->order);
+        Uncertainty u = grid_uncertainty({c.check->refinement, 1.0}, {o.ours[i], c.values[i]},
+                                         c.check->order);
+        // grid_uncertainty estimates the finer level's; ours is the coarser one.
+        u.value = o.ours[i];
+        u.absolute = 3 * std::abs(o.ours[i] - c.values[i]) * rp / (rp - 1);
+        u.gci = o.ours[i] != 0 ? u.absolute / std::abs(o.ours[i]) : NAN;
+        o.uncertainty[i] = u;
+        break;
+      }
+      // No converged check: the difference from an independent route that agrees (a closed
+      // form, a second solver) is how far ours is known.
+      if (!o.uncertainty[i].known())
+        for (const auto& c : o.checks)
+          if (c.check->kind == LedgerCheck::Kind::independent && c.agrees &&
+              c.values.size() == o.ours.size() && std::isfinite(c.values[i])) {
+            Uncertainty u;
+            u.levels = 2;
+            u.value = o.ours[i];
+            u.absolute = std::abs(o.ours[i] - c.values[i]);
+            u.gci = o.ours[i] != 0 ? u.absolute / std::abs(o.ours[i]) : NAN;
+            u.cls = ConvergenceClass::two_levels;
+            u.method = "difference from an independent route";
+            o.uncertainty[i] = u;
+            break;
+          }
+      if (o.uncertainty[i].levels < 2 && o.uncertainty[i].why_none.empty())
+        o.uncertainty[i].why_none = row.kind == LedgerRow::Kind::published
+                                        ? "a value at the paper's resolution and no converged "
+                                          "check of it"
+                                        : "one resolution and no converged check of this value";
+    }
+    o.paper_inside.assign(o.ours.size(), false);
+    for (std::size_t i = 0; i < o.ours.size() && i < row.paper.size(); ++i)
+      o.paper_inside[i] = within_uncertainty(o.ours[i], o.uncertainty[i], row.paper[i],
+                                             row.tolerance, row.compare == CompareBy::ratio ||
+                                                                row.bound != LedgerRow::Bound::none);
+  } else {
+    Uncertainty none;
+    none.why_none = row.kind == LedgerRow::Kind::finding
+                        ? "a finding: its verdict, not a number (its numbers are in ours)"
+                        : "an open row";
+    o.uncertainty = {none};
+  }
   // A reproduction that a finer run does not confirm is not counted as one: the value has not
   // converged (issue 43). It stays "partly", the disagreeing check named.
   if (converged_veto && (o.verdict == kReproduced || o.verdict == kReproducedReading)) {

@@ -352,12 +352,23 @@ std::vector<LedgerCheck> parse_checks(const Reporter& r, const LedgerRow& base,
     else
       r.fail(c.line, fmt::format("check kind = \"{}\" is not known", kind),
              "write kind = \"independent\" (a second route) or \"converged\" (refinement)");
-    std::vector<std::string> own = {"kind", "route"};
+    std::vector<std::string> own = {"kind", "route", "refinement", "order"};
+    for (const char* key : {"refinement", "order"})
+      if (const auto* v = t.get(key)) {
+        const auto x = number_of(*v);
+        if (!x || !(*x > (std::string(key) == "refinement" ? 1.0 : 0.0)) || !std::isfinite(*x))
+          r.fail(line_of(*v),
+                 fmt::format("'{}' must be a finite number {}", key,
+                             std::string(key) == "refinement" ? "> 1" : "> 0"),
+                 "refinement = h over the check's h (2: half the step), order = the formal "
+                 "order of the refined quantity");
+        (std::string(key) == "refinement" ? c.refinement : c.order) = *x;
+      }
     // A finding judged on an independent implementation's recorded studies
     // (verify/reference_studies.hpp): the second route that shares no code with ours.
     if (base.kind == LedgerRow::Kind::finding) own.insert(own.end(), {"reference", "studies"});
     c.row = variant_of(r, base, t, "check", own, manifest, catalogue);
-    if (t.size() == 2)
+    if (t.size() - t.contains("refinement") - t.contains("order") == 2)
       r.fail(c.line, fmt::format("a check of row '{}' replaces nothing: it would repeat the "
                                  "reading", base.id),
              "name the case, cases, nodes or finding the second computation uses");

@@ -24,6 +24,27 @@ namespace mfv {
 using namespace ledger_internal;
 
 namespace {
+/// "± 0.4 (p = 1.9, monotone; inside)" per value, or the reason there is none.
+std::string uncertainty_text(const LedgerEntry& e) {
+  const LedgerReadingOutcome& c = e.readings[e.chosen];
+  std::vector<std::string> parts;
+  for (std::size_t i = 0; i < c.uncertainty.size(); ++i) {
+    const Uncertainty& u = c.uncertainty[i];
+    if (!u.known()) {
+      parts.push_back(e.row->kind == LedgerRow::Kind::finding ? "– (a finding)"
+                                                               : "– (" + u.why_none + ")");
+      continue;
+    }
+    std::string t = u.text();
+    if (i < c.paper_inside.size()) {
+      t.pop_back();
+      t += c.paper_inside[i] ? "; paper inside)" : "; paper outside)";
+    }
+    parts.push_back(t);
+  }
+  return fmt::format("{}", fmt::join(parts, "; "));
+}
+
 std::string tolerance_text(const LedgerEntry& e) {
   const LedgerRow& row = *e.row;
   if (row.kind == LedgerRow::Kind::finding) return e.criterion;
@@ -332,18 +353,20 @@ std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
       if (ledger_paper(*e.row) == p) mine.push_back(&e);
     if (mine.empty()) continue;
     md += fmt::format("## {}\n\n", paper_titles().at(p));
-    md += "| id | source | claim | paper | ours | ours/paper (or −) | tolerance | verdict | "
-          "evidence | reading (of those tried) |\n|:--|:--|:--|--:|--:|--:|:--|:--|:--|:--|\n";
+    md += "| id | source | claim | paper | ours | ± uncertainty (order, class; paper inside?) | "
+          "ours/paper (or −) | tolerance | verdict | evidence | reading (of those tried) "
+          "|\n|:--|:--|:--|--:|--:|:--|--:|:--|:--|:--|:--|\n";
     for (const LedgerEntry* e : mine) {
       const LedgerRow& row = *e->row;
       const std::string tried = e->readings.size() > 1
                                     ? fmt::format("{} ([{} tried](#{}))", e->reading,
                                                   e->readings.size(), anchor(row))
                                     : fmt::format("{} ([details](#{}))", e->reading, anchor(row));
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | **{}** | {} | {} |\n",
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | **{}** | {} | {} |\n",
                         cell(row.id), cell(row.source), cell(row.claim), cell(paper_text(*e)),
-                        cell(ours_text(*e)), cell(comparison_text(*e)), cell(tolerance_text(*e)),
-                        e->verdict, cell(e->evidence), cell(tried));
+                        cell(ours_text(*e)), cell(uncertainty_text(*e)),
+                        cell(comparison_text(*e)), cell(tolerance_text(*e)), e->verdict,
+                        cell(e->evidence), cell(tried));
     }
     md += "\n";
   }
@@ -364,7 +387,8 @@ std::string ledger_counts_markdown(const std::vector<LedgerEntry>& entries) {
 std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   std::string out =
       "id,paper_id,section,source,claim,measured_by,paper,ours,comparison,tolerance,compare,"
-      "verdict,evidence,reading,readings_tried,checks,gap_reason\n";
+      "verdict,evidence,reading,readings_tried,checks,gap_reason,uncertainty,observed_order,"
+      "extrapolated,gci,convergence_class,paper_inside_uncertainty,uncertainty_why_none\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     std::vector<std::string> tried, checks;
@@ -386,7 +410,7 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
             : c.verdict == kNotRun ? std::string("not run in this invocation")
                                    : "differs (" + c.verdict + ")"));
     }
-    const std::vector<std::string> fields = {
+    std::vector<std::string> fields = {
         row.id, ledger_paper(row), ledger_section(row), row.source, row.claim,
         case_text(*e.read), join_values(row.paper, true),
         row.kind == LedgerRow::Kind::finding ? ours_text(e) : join_values(e.ours, true),
@@ -401,6 +425,22 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
                                              : "difference",
         e.verdict, e.evidence, e.reading, fmt::format("{}", fmt::join(tried, " | ")),
         fmt::format("{}", fmt::join(checks, " | ")), e.why};
+    // The chosen reading's uncertainty per value (";" between values, as ours).
+    const LedgerReadingOutcome& c = e.readings[e.chosen];
+    std::vector<std::string> u, p, x, g, k, in, why;
+    auto num = [](double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); };
+    for (std::size_t i = 0; i < c.uncertainty.size(); ++i) {
+      const Uncertainty& q = c.uncertainty[i];
+      u.push_back(num(q.absolute));
+      p.push_back(num(q.order) + (q.assumed_order && std::isfinite(q.order) ? " (assumed)" : ""));
+      x.push_back(num(q.extrapolated));
+      g.push_back(num(q.gci));
+      k.push_back(convergence_class_name(q.cls));
+      in.push_back(i < c.paper_inside.size() ? (c.paper_inside[i] ? "yes" : "no") : "");
+      why.push_back(q.why_none);
+    }
+    for (const auto* col : {&u, &p, &x, &g, &k, &in, &why})
+      fields.push_back(fmt::format("{}", fmt::join(*col, ";")));
     std::vector<std::string> quoted;
     for (const auto& f : fields) quoted.push_back(csv_field(f));
     out += fmt::format("{}\n", fmt::join(quoted, ","));

@@ -1,5 +1,7 @@
 #include "verify/results_json.hpp"
 
+#include "reports/uncertainty.hpp"
+
 #include "dynamics/external_solver.hpp"
 #include "verify/provenance.hpp"
 
@@ -92,6 +94,30 @@ json norms_json(const ErrorNorms& e, int components, const MeasuredErrors& m,
   if (components > 1) out["energy"] = pair("energy", e.energy, e.energy_rel);
   return out;
 }
+
+}  // namespace
+
+json uncertainty_json(const Uncertainty& u) {
+  json j = {{"levels", u.levels},
+            {"class", convergence_class_name(u.cls)},
+            {"assumed_order", u.assumed_order}};
+  // Absent numbers were not estimated; why_none says why (no "nulls" entry per field).
+  auto put = [&](const char* key, double v) {
+    if (std::isfinite(v)) j[key] = v;
+  };
+  put("value", u.value);
+  put("order", u.order);
+  put("order_least_squares", u.order_least_squares);
+  put("extrapolated", u.extrapolated);
+  put("gci", u.gci);
+  put("uncertainty", u.absolute);
+  put("asymptotic_ratio", u.asymptotic);
+  if (!u.method.empty()) j["method"] = u.method;
+  if (!u.why_none.empty()) j["why_none"] = u.why_none;
+  return j;
+}
+
+namespace {
 
 json rates_json(const Rates& r, int components, const MeasuredErrors& m, const std::string& at,
                 JsonNumbers& n) {
@@ -351,6 +377,36 @@ json study_json(const Registries& catalogue, const StudyResult& study, const std
       catalogue.analyses.create(analysis_of(catalogue, first))->measured_errors();
   out["rates"] = {{"common", rates_json(study.rates, comps, m, at + "/rates/common", n)},
                   {"paper", rates_json(study.rates_paper, comps, m, at + "/rates/paper", n)}};
+  // The finest resolution's discretization uncertainty (reports/uncertainty.hpp): of each
+  // relative error the analysis measures (common rule) and of each headline.
+  {
+    std::vector<double> h;
+    for (const auto& c : study.cases) h.push_back(c.h);
+    auto series = [&](auto pick) {
+      std::vector<double> v;
+      for (const auto& c : study.cases) v.push_back(pick(c));
+      return v;
+    };
+    json errors = json::object();
+    if (m.has("l2"))
+      errors["l2"] = uncertainty_json(grid_uncertainty(h, series([](const CaseResult& c) { return c.errors.l2_rel; })));
+    if (m.has("h1_seminorm"))
+      errors["h1_seminorm"] = uncertainty_json(
+          grid_uncertainty(h, series([](const CaseResult& c) { return c.errors.h1_semi_rel; })));
+    if (comps > 1 && m.has("energy"))
+      errors["energy"] = uncertainty_json(
+          grid_uncertainty(h, series([](const CaseResult& c) { return c.errors.energy_rel; })));
+    json headlines = json::object();
+    for (const auto& [name, v0] : first.headline) {
+      (void)v0;
+      headlines[headline_id(name)] = uncertainty_json(grid_uncertainty(
+          h, series([&name = name](const CaseResult& c) {
+            const auto it = c.headline.find(name);
+            return it == c.headline.end() ? NAN : it->second;
+          })));
+    }
+    out["uncertainty"] = {{"errors", errors}, {"headlines", headlines}};
+  }
   return out;
 }
 
@@ -417,6 +473,15 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     if (row.kind == LedgerRow::Kind::finding) {
       r["criterion"] = e.criterion;
       r["ours_text"] = e.ours_text;
+    }
+    // Discretization uncertainty of ours, per value (reports/uncertainty.hpp).
+    {
+      const LedgerReadingOutcome& c = e.readings[e.chosen];
+      json us = json::array();
+      for (const Uncertainty& u : c.uncertainty) us.push_back(uncertainty_json(u));
+      r["uncertainty"] = us;
+      r["paper_inside"] = c.paper_inside;
+      if (e.source) r["source_group"] = e.source->name;
     }
     r["paper_id"] = ledger_paper(row);
     r["section"] = ledger_section(row);

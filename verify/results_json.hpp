@@ -54,6 +54,11 @@ std::string headline_id(const std::string& name);
 /// "(of p)" or "(particle sum)" are qualifiers, not units.
 std::string headline_unit(const std::string& name);
 
+struct Uncertainty;
+/// A discretization uncertainty (reports/uncertainty.hpp) as JSON: levels, class, and each
+/// estimated number (absent when not estimated, why_none saying why).
+nlohmann::json uncertainty_json(const Uncertainty& u);
+
 /// One study: parameters, per-resolution errors by norm name (common and paper rules), rates
 /// by norm name (least squares and pairwise), CPU seconds, headline values and the analysis
 /// verdicts. `pointer` is where it sits in the document (for "nulls").
