@@ -45,16 +45,18 @@ std::vector<PublishedValue> EnrichedBarProblem::published() const {
       return PublishedValue{source, q, "xefg", {}, 10, v, note, pp};
     };
     std::vector<PublishedValue> out;
+    // 003's α (eqs 23-30) is the 1D cell problem's: published for the bar only (issue 44: the
+    // 2D patch's rows repeated the 1D value to 15 digits and counted it again).
+    out.push_back(pv("003 §4.3.3", "alpha row-sum", 12.46,
+                     "003's row-sum α of eq 30 (1D cell problem); ours: the large-DMAX limit "
+                     "of λ_max DMAX², support radius DMAX·Δx", "1"));
+    out.push_back(pv("Belytschko et al. 2000a via 003 §4.3.3", "alpha row-sum", 13.30,
+                     "the fit 003 compares with", "1"));
+    out.push_back(pv("003 §4.3.3", "alpha row-sum trimmed", 7.1,
+                     "support trimmed to [0.25 s, 0.75 s], even DMAX", "1"));
+    out.push_back(pv("003 §4.3.3", "alpha MLS1 trimmed", 10.0,
+                     "support trimmed to [0.25 s, 0.75 s], even DMAX", "1"));
     for (const char* d : {"1", "2"}) {
-      out.push_back(pv("003 §4.3.3", "alpha row-sum", 12.46,
-                       "003's row-sum α of eq 30 (1D cell problem); ours: the large-DMAX limit "
-                       "of λ_max DMAX², support radius DMAX·Δx", d));
-      out.push_back(pv("Belytschko et al. 2000a via 003 §4.3.3", "alpha row-sum", 13.30,
-                       "the fit 003 compares with", d));
-      out.push_back(pv("003 §4.3.3", "alpha row-sum trimmed", 7.1,
-                       "support trimmed to [0.25 s, 0.75 s], even DMAX", d));
-      out.push_back(pv("003 §4.3.3", "alpha MLS1 trimmed", 10.0,
-                       "support trimmed to [0.25 s, 0.75 s], even DMAX", d));
       out.push_back(pv("003 §5", "min dt ratio MLS2", 0.84,
                        "worst case (crack through a node); §4.3.2 says 85 % in 2D", d));
     }

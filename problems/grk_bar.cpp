@@ -309,21 +309,9 @@ class GrkBar final : public TransientProblem {
     return {{kCritical, L_ / 20 / c()}, {kUnstable, 0.0}};
   }
 
-  std::vector<PublishedValue> published() const override {
-    std::vector<PublishedValue> out;
-    const double analytic[] = {2.456e-5, 3.473e-5, 4.912e-5};
-    const double numeric[] = {2.432e-5, 3.223e-5, 5.651e-5};
-    for (int j = -1; j <= 1; ++j) {
-      Params mp;
-      mp.set("j", static_cast<double>(j));
-      mp.set("rule", "eq6.10");
-      out.push_back({"004 III §5.2 table", kCritical, "rkpm", mp, 21, numeric[j + 1],
-                     "'numeric' column (eigenvalue of K − ω²M); FEM l/c = 2.455e-5 s", {}});
-      out.push_back({"004 III §5.2 table", kEq525, "rkpm", mp, 21,
-                     analytic[j + 1], "'analytic' column, eq 5.2.5", {}});
-    }
-    return out;
-  }
+  // 004 III §5.2's critical-step table is published once, by the time-step problem
+  // (problems/time_step.cpp), whose ledger rows check this bar's explicit-engine step as their
+  // independent route: one number measured two ways is one claim (issue 44).
 
   std::vector<std::string> published_notes() const override {
     return {

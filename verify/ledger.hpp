@@ -23,7 +23,11 @@
 //   tolerance = 0.05                     # PublishedValue::tolerance
 //   compare = "ratio"                    # or "difference" (default ratio), or a one-sided
 //                                        # claim: "at_least" (ours ≥ paper·(1 − tolerance))
-//                                        # or "at_most" (ours ≤ paper·(1 + tolerance))
+//                                        # or "at_most" (ours ≤ paper·(1 + tolerance)), or a
+//                                        # range: "range" with paper = [low, high] at one
+//                                        # resolution (ours in [low(1 − tol), high(1 + tol)])
+//   role = "check"                       # optional: our own check, not a paper's claim
+//                                        # (counted apart; default "claim")
 //   # (2) a number the paper states that no problem holds (rates "up to 15.92"):
 //   cases = ["laplace-tanh/a", "laplace-tanh/b"]  # ours = the largest measure over them
 //   measure = "l2_rate"                  # l2_rate, h1_rate, energy_rate or headline:<name>
@@ -160,7 +164,12 @@ struct LedgerRow {
   CompareBy compare = CompareBy::ratio;
   /// A one-sided claim ("keeps at least 84 %"): ours may lie anywhere on the stated side;
   /// the tolerance (relative) applies only on the other. 0: two-sided.
-  enum class Bound { none, at_least, at_most } bound = Bound::none;
+  /// range: the claim is an interval, paper = [low, high] at one resolution; ours within the
+  /// interval widened by the tolerance (relative) at each end.
+  enum class Bound { none, at_least, at_most, range } bound = Bound::none;
+  /// A claim of a paper (counted per paper), or our own check of the suite (a closed form, a
+  /// column at rest: listed and counted apart, never among the papers' claims).
+  enum class Role { claim, check } role = Role::claim;
   std::string measure;  ///< measure rows
   RateStatistic statistic = RateStatistic::least_squares;  ///< measure rows of a rate
   std::string finding;  ///< finding rows: the Finding::id
@@ -274,9 +283,12 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
                                          const Manifest& manifest,
                                          const std::map<std::string, CaseOutcome>& ran);
 
-/// Verdict → count, every verdict of ledger_verdicts() present.
-std::map<std::string, int> count_verdicts(const std::vector<LedgerEntry>& entries);
-/// "31 reproduced, 4 reproduced under a stated reading, …" (non-zero counts, in order).
+/// Verdict → count over the rows of `role` (the papers' claims by default), every verdict
+/// of ledger_verdicts() present.
+std::map<std::string, int> count_verdicts(const std::vector<LedgerEntry>& entries,
+                                          LedgerRow::Role role = LedgerRow::Role::claim);
+/// "31 reproduced, 4 reproduced under a stated reading, … of 110 claims" (non-zero counts,
+/// in order), then "; our own checks: …" when the ledger has any.
 std::string verdict_counts_line(const std::vector<LedgerEntry>& entries);
 
 /// The paper a row belongs to ("000", "001", "003", "004", or "other" for claims of other

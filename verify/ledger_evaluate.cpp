@@ -71,6 +71,21 @@ double measure_value(const StudyResult& s, const std::string& measure, RateStati
 
 /// compare_value, with one-sided rows judged only on the side the claim excludes.
 Comparison compare_row(double ours, double paper, const LedgerRow& row) {
+  if (row.bound == LedgerRow::Bound::range) {
+    // paper is ignored: the interval is the row's [low, high]; ratio and difference are
+    // against the nearer end (1 and 0 inside).
+    const double lo = row.paper[0], hi = row.paper[1];
+    Comparison c = compare_value(ours, ours < lo ? lo : ours > hi ? hi : ours, row.tolerance,
+                                 CompareBy::ratio);
+    if (c.verdict == kNotReached) return c;
+    const double excess = ours < lo ? (lo - ours) / std::abs(lo)
+                          : ours > hi ? (ours - hi) / std::abs(hi)
+                                      : 0.0;
+    c.verdict = excess <= row.tolerance ? kReproduced
+                : excess <= 3 * row.tolerance ? kPartly
+                                              : kNotReproduced;
+    return c;
+  }
   Comparison c = compare_value(ours, paper, row.tolerance, row.compare);
   if (row.bound == LedgerRow::Bound::none || c.verdict == kNotReached) return c;
   const double tol = row.tolerance * std::abs(paper);
@@ -174,6 +189,13 @@ double distance_of(const LedgerReadingOutcome& o) {
     const Comparison& c = o.compared[i];
     if (!std::isfinite(c.difference)) return INFINITY;
     const double paper = row.paper[i];
+    if (row.bound == LedgerRow::Bound::range) {
+      const double end = c.ratio > 0 && std::isfinite(c.ratio) ? std::abs(c.difference) /
+                                                                     std::max(std::abs(row.paper[0]), 1e-300)
+                                                               : INFINITY;
+      d = std::max(d, end / row.tolerance);
+      continue;
+    }
     if (row.bound != LedgerRow::Bound::none) {
       const double excess = row.bound == LedgerRow::Bound::at_least ? -c.difference : c.difference;
       d = std::max(d, std::max(0.0, excess) / (row.tolerance * std::max(std::abs(paper), 1e-300)));
@@ -240,6 +262,7 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       bool computed = false;  // whether any case of the study has the quantity at all
       for (std::size_t i = 0; i < row.nodes.size(); ++i) {
         double ours = NAN;
+        const double paper = row.bound == LedgerRow::Bound::range ? NAN : row.paper[i];
         if (it->second.study)
           for (const auto& r : it->second.study->cases) {
             computed = computed || row.quantity == "error u" ||
@@ -248,7 +271,7 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
           }
         if (!std::isfinite(ours)) missing.push_back(std::to_string(row.nodes[i]));
         e.ours.push_back(ours);
-        e.compared.push_back(compare_row(ours, row.paper[i], row));
+        e.compared.push_back(compare_row(ours, paper, row));
         // A value at the paper's own resolution is compared as computed there: its
         // uncertainty is that of the quadrature, step or solver, from a converged check
         // (evaluate_checks), not the particle refinement's distance to the continuum.
@@ -448,6 +471,14 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
                                         : "one resolution and no converged check of this value";
     }
     o.paper_inside.assign(o.ours.size(), false);
+    if (row.bound == LedgerRow::Bound::range) {
+      // The interval, widened by U and the tolerance, contains ours.
+      if (!o.ours.empty() && o.uncertainty[0].known()) {
+        const double u = o.uncertainty[0].absolute, x = o.ours[0];
+        o.paper_inside[0] = x + u >= row.paper[0] * (1 - row.tolerance) &&
+                            x - u <= row.paper[1] * (1 + row.tolerance);
+      }
+    } else
     for (std::size_t i = 0; i < o.ours.size() && i < row.paper.size(); ++i)
       o.paper_inside[i] = within_uncertainty(o.ours[i], o.uncertainty[i], row.paper[i],
                                              row.tolerance, row.compare == CompareBy::ratio ||
@@ -548,19 +579,31 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
   return out;
 }
 
-std::map<std::string, int> count_verdicts(const std::vector<LedgerEntry>& entries) {
+std::map<std::string, int> count_verdicts(const std::vector<LedgerEntry>& entries,
+                                          LedgerRow::Role role) {
   std::map<std::string, int> n;
   for (const auto& v : ledger_verdicts()) n[v] = 0;
-  for (const auto& e : entries) ++n[e.verdict];
+  for (const auto& e : entries)
+    if (e.row->role == role) ++n[e.verdict];
   return n;
 }
 
 std::string verdict_counts_line(const std::vector<LedgerEntry>& entries) {
-  const auto n = count_verdicts(entries);
-  std::vector<std::string> parts;
-  for (const auto& v : ledger_verdicts())
-    if (n.at(v) > 0) parts.push_back(fmt::format("{} {}", n.at(v), v));
-  return fmt::format("{} of {} claims", fmt::join(parts, ", "), entries.size());
+  auto line = [&](LedgerRow::Role role, int& total) {
+    const auto n = count_verdicts(entries, role);
+    std::vector<std::string> parts;
+    total = 0;
+    for (const auto& v : ledger_verdicts()) {
+      total += n.at(v);
+      if (n.at(v) > 0) parts.push_back(fmt::format("{} {}", n.at(v), v));
+    }
+    return fmt::format("{}", fmt::join(parts, ", "));
+  };
+  int claims = 0, checks = 0;
+  const std::string c = line(LedgerRow::Role::claim, claims);
+  const std::string k = line(LedgerRow::Role::check, checks);
+  return fmt::format("{} of {} claims{}", c, claims,
+                     checks > 0 ? fmt::format("; our own checks: {} of {}", k, checks) : "");
 }
 
 }  // namespace mfv

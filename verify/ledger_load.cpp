@@ -126,7 +126,11 @@ void check_published(const Reporter& r, const LedgerRow& row, const Registries& 
   // Resolved, so that a case leaving dim at its default 1 does not match dim = 2's values.
   const Params problem_resolved = resolved_case_params(catalogue, row.problem, row.problem_params);
   const auto all = problem->published();
-  for (std::size_t i = 0; i < row.nodes.size(); ++i) {
+  // A range row names both ends at its one resolution.
+  const bool range = row.bound == LedgerRow::Bound::range;
+  for (std::size_t k = 0; k < (range ? row.paper.size() : row.nodes.size()); ++k) {
+    const std::size_t i = range ? 0 : k;
+    const double value = row.paper[k];
     std::vector<const PublishedValue*> found;
     for (const auto& pv : all)
       if (pv.source == row.published_source && pv.quantity == row.quantity &&
@@ -134,13 +138,13 @@ void check_published(const Reporter& r, const LedgerRow& row, const Registries& 
           params_match(resolved, pv.method_params) &&
           problem_params_match(problem_resolved, pv.problem_params))
         found.push_back(&pv);
-    std::erase_if(found, [&](const PublishedValue* pv) { return pv->value != row.paper[i]; });
+    std::erase_if(found, [&](const PublishedValue* pv) { return pv->value != value; });
     if (found.empty())
       r.fail(row.line,
              fmt::format("row '{}': {} publishes no '{}' from '{}' for {} at {} nodes with the "
                          "value {}",
                          row.id, row.problem, row.quantity, row.published_source, row.method,
-                         row.nodes[i], row.paper[i]),
+                         row.nodes[i], value),
              "restate the problem's PublishedValue exactly (source, quantity, nodes, value), or "
              "fix the problem's published()");
     if (found.front()->tolerance != row.tolerance)
@@ -173,7 +177,7 @@ namespace {
 const std::vector<std::string> kRowKeys = {
     "id", "source", "claim", "reading", "reason", "quote", "case", "cases", "problem",
     "problem_params", "method", "method_params", "published", "quantity", "nodes", "paper",
-    "tolerance", "compare", "measure", "statistic", "finding", "try", "check"};
+    "tolerance", "compare", "measure", "statistic", "finding", "try", "check", "role"};
 
 }  // namespace
 
@@ -565,10 +569,18 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     if (compare == "difference") row.compare = CompareBy::difference;
     else if (compare == "at_least") row.bound = LedgerRow::Bound::at_least;
     else if (compare == "at_most") row.bound = LedgerRow::Bound::at_most;
+    else if (compare == "range") row.bound = LedgerRow::Bound::range;
     else if (!compare.empty() && compare != "ratio")
-      r.fail(row.line, fmt::format("compare = \"{}\" is not ratio, difference, at_least or at_most",
-                                   compare),
-             "write compare = \"ratio\", \"difference\", \"at_least\" or \"at_most\"");
+      r.fail(row.line,
+             fmt::format("compare = \"{}\" is not ratio, difference, at_least, at_most or range",
+                         compare),
+             "write compare = \"ratio\", \"difference\", \"at_least\", \"at_most\" or "
+             "\"range\"");
+    const std::string role = get_string(r, *t, "role", false, row.line);
+    if (role == "check") row.role = LedgerRow::Role::check;
+    else if (!role.empty() && role != "claim")
+      r.fail(row.line, fmt::format("role = \"{}\" is not claim or check", role),
+             "write role = \"check\" for our own check of the suite (not a paper's claim)");
 
     // The kind, and what it needs.
     const int kinds = !row.published_source.empty() + !row.measure.empty() + !finding.empty();
@@ -576,6 +588,17 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
       r.fail(row.line, fmt::format("row '{}' mixes published, measure and finding", row.id),
              "give one kind per row");
     auto need_numbers = [&](std::size_t n) {
+      if (row.bound == LedgerRow::Bound::range) {
+        if (row.kind != LedgerRow::Kind::published || row.nodes.size() != 1 ||
+            row.paper.size() != 2 || !(row.paper[0] < row.paper[1]))
+          r.fail(row.line, fmt::format("range row '{}' needs one resolution and paper = [low, "
+                                       "high] with low < high", row.id),
+                 "write nodes = [n] and paper = [low, high]");
+        if (!(row.tolerance > 0))
+          r.fail(row.line, fmt::format("row '{}' states no tolerance", row.id),
+                 "add tolerance = <relative tolerance at each end>");
+        return;
+      }
       if (row.paper.size() != n)
         r.fail(row.line, fmt::format("row '{}' has {} paper value(s) for {}", row.id,
                                      row.paper.size(), n),

@@ -49,6 +49,8 @@ std::string tolerance_text(const LedgerEntry& e) {
   const LedgerRow& row = *e.row;
   if (row.kind == LedgerRow::Kind::finding) return e.criterion;
   if (!(row.tolerance > 0)) return "–";
+  if (row.bound == LedgerRow::Bound::range)
+    return fmt::format("in [low − {0:g}%, high + {0:g}%]", 100 * row.tolerance);
   if (row.bound == LedgerRow::Bound::at_least)
     return fmt::format("≥ paper − {:g}%", 100 * row.tolerance);
   if (row.bound == LedgerRow::Bound::at_most)
@@ -156,11 +158,14 @@ const std::map<std::string, std::string>& paper_titles() {
       {"001", "001 — Rabczuk, Belytschko & Xiao, stable particle methods based on Lagrangian kernels"},
       {"003", "003 — Samaniego et al., stability of explicit enriched meshfree methods"},
       {"004", "004 — Liu et al., reproducing kernel and wavelet particle methods (I–III)"},
-      {"other", "Other sources (closed forms, hydrostatics, experiments): our checks"}};
+      {"other", "Other sources (closed forms, experiments)"},
+      {"check", "Our own checks of the suite (not claims of a paper; counted apart)"}};
   return t;
 }
 
-std::vector<std::string> paper_order() { return {"000", "001", "003", "004", "other"}; }
+std::vector<std::string> paper_order() {
+  return {"000", "001", "003", "004", "other", "check"};
+}
 
 /// Verdict columns of the counts table; the rest (not reached, not run, not yet built) is
 /// "other".
@@ -234,7 +239,7 @@ std::string counts_markdown(const std::vector<LedgerEntry>& entries, bool sectio
     auto& order = section_order[p];
     if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
     per_section[p][s].add(e);
-    all.add(e);
+    if (e.row->role == LedgerRow::Role::claim) all.add(e);
   }
   for (auto& [p, order] : section_order) std::sort(order.begin(), order.end(), natural_less);
   std::string md = counts_header(sections ? "paper / section" : "paper");
@@ -252,7 +257,7 @@ std::string counts_markdown(const std::vector<LedgerEntry>& entries, bool sectio
     }
   }
   auto cells = all.cells();
-  cells.insert(cells.begin(), "**all**");
+  cells.insert(cells.begin(), "**all claims** (our own checks apart)");
   return md + md_row(cells);
 }
 
@@ -306,6 +311,7 @@ std::string readings_markdown(const LedgerEntry& e) {
 }  // namespace
 
 std::string ledger_paper(const LedgerRow& row) {
+  if (row.role == LedgerRow::Role::check) return "check";
   // The id's prefix, else the source's first word ("004 II Table 1").
   for (const char* p : {"000", "001", "003", "004"})
     if (row.id.rfind(std::string(p) + "-", 0) == 0 || row.source.rfind(std::string(p) + " ", 0) == 0)
@@ -419,6 +425,7 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
         : row.tolerance > 0                  ? fmt::format("{:g}", row.tolerance)
                                              : "",
         row.kind == LedgerRow::Kind::finding ? "finding"
+        : row.bound == LedgerRow::Bound::range    ? "range"
         : row.bound == LedgerRow::Bound::at_least ? "at_least"
         : row.bound == LedgerRow::Bound::at_most  ? "at_most"
         : row.compare == CompareBy::ratio    ? "ratio"

@@ -429,6 +429,9 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
                  const std::string& at, JsonNumbers& n) {
   json counts = json::object();
   for (const auto& [verdict, count] : count_verdicts(entries)) counts[verdict] = count;
+  json check_counts = json::object();
+  for (const auto& [verdict, count] : count_verdicts(entries, LedgerRow::Role::check))
+    check_counts[verdict] = count;
   json rows = json::array();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const LedgerEntry& e = entries[i];
@@ -452,7 +455,8 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     r["paper"] = row.paper;
     if (row.kind == LedgerRow::Kind::published || row.kind == LedgerRow::Kind::measure) {
       r["tolerance"] = row.tolerance;
-      r["compare"] = row.bound == LedgerRow::Bound::at_least ? "at_least"
+      r["compare"] = row.bound == LedgerRow::Bound::range      ? "range"
+                     : row.bound == LedgerRow::Bound::at_least ? "at_least"
                      : row.bound == LedgerRow::Bound::at_most ? "at_most"
                      : row.compare == CompareBy::ratio        ? "ratio"
                                                               : "difference";
@@ -483,6 +487,7 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       r["paper_inside"] = c.paper_inside;
       if (e.source) r["source_group"] = e.source->name;
     }
+    r["role"] = row.role == LedgerRow::Role::check ? "check" : "claim";
     r["paper_id"] = ledger_paper(row);
     r["section"] = ledger_section(row);
     if (!row.quote.empty()) r["quote"] = row.quote;
@@ -557,7 +562,10 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     r["readings"] = readings;
     rows.push_back(std::move(r));
   }
-  return {{"ledger_file", ledger.path.string()}, {"counts", counts}, {"rows", rows}};
+  return {{"ledger_file", ledger.path.string()},
+          {"counts", counts},
+          {"check_counts", check_counts},
+          {"rows", rows}};
 }
 
 std::string ledger_json_text(const Ledger& ledger, const std::vector<LedgerEntry>& entries) {
