@@ -197,6 +197,7 @@ class TimeStep final : public FigureAnalysis {
         c.plugins.methods.resolve("rkpm", c.spec.method_params).text("kernel") == "gaussian") {
       const double eq525 = grk_critical_step_eq525(s.window, r.h, r.h / dxc);
       r.headline[kEq525] = eq525;
+      r.headline[kEq525OverSqrt2] = eq525 / std::sqrt(2.0);
       r.headline[kEq525Node] = s.eq525_sums.at_middle;
       r.headline[kEq525Min] = s.eq525_sums.smallest;
       if (row_sum) r.headline[kEq525OverRowSum] = eq525 / s.row_sum;

@@ -47,6 +47,9 @@
 // Every kind may also say what its own reading rests on, and which statistic it takes:
 //   quote = "“…” (004 II eq 7.3)"        # the paper's sentence or equation behind the row's
 //                                        # own reading (the row as written)
+//   follow = "004-II-rates-spline-l2"    # measure rows: read the measure on the case the
+//                                        # named earlier row's value came from, reading by
+//                                        # reading (a figure's L2 and H1 claims on one study)
 //   statistic = "finest_pair"            # measure rows with a rate: least_squares (default,
 //                                        # the slope over every resolution), finest_pair (the
 //                                        # slope between the two finest), best_pair (the
@@ -171,6 +174,10 @@ struct LedgerRow {
   /// column at rest: listed and counted apart, never among the papers' claims).
   enum class Role { claim, check } role = Role::claim;
   std::string measure;  ///< measure rows
+  /// Measure rows: the earlier row whose chosen case this row reads its measure on, under the
+  /// reading of the same name (a figure's L2 and H1 claims judged on one study, issue 44);
+  /// empty: the largest over the row's own cases.
+  std::string follow;
   RateStatistic statistic = RateStatistic::least_squares;  ///< measure rows of a rate
   std::string finding;  ///< finding rows: the Finding::id
   /// A check of a finding row judged on an independent implementation's recorded studies
@@ -240,6 +247,7 @@ struct LedgerReadingOutcome {
   /// How far from the paper: the largest |ln(ours/paper)| (ratio rows) or
   /// |ours − paper|/tolerance (difference rows); 0 for findings; ∞ when not compared.
   double distance = 0;
+  std::string from_case;  ///< measure rows: the case whose value is ours
   std::vector<LedgerCheckOutcome> checks;
   std::string evidence;  ///< kEvidence*, or "–" when the reading did not run
   /// Per value: its discretization uncertainty (reports/uncertainty.hpp) from the study's

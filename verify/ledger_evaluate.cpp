@@ -236,7 +236,8 @@ Uncertainty measure_uncertainty(const StudyResult& s, const std::string& measure
 /// One reading's values and verdict against the paper, before a stated reading is named.
 LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& catalogue,
                                      const Manifest& manifest,
-                                     const std::map<std::string, CaseOutcome>& ran) {
+                                     const std::map<std::string, CaseOutcome>& ran,
+                                     const std::string& only_case = "") {
   LedgerReadingOutcome e;
   e.row = &row;
   switch (row.kind) {
@@ -293,6 +294,7 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       const StudyResult* from = nullptr;
       std::vector<std::string> not_run, failed;
       for (const auto& id : row.cases) {
+        if (!only_case.empty() && id != only_case) continue;
         const auto it = ran.find(id);
         if (it == ran.end()) { not_run.push_back(id); continue; }
         if (!it->second.study) { failed.push_back(id); continue; }
@@ -300,6 +302,7 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
         if (std::isfinite(v) && !(v <= best)) {
           best = v;
           from = &*it->second.study;
+          e.from_case = id;
         }
       }
       if (from) e.uncertainty = {measure_uncertainty(*from, row.measure)};
@@ -522,14 +525,27 @@ std::vector<LedgerEntry> evaluate_ledger(const Ledger& ledger, const Registries&
   std::map<std::string, const LedgerSource*> source_of;
   for (const auto& src : ledger.sources)
     for (const auto& id : src.rows) source_of[id] = &src;
+  // Per measure row and reading name ("" its own), the case its value came from: what a row
+  // that follows it reads its measure on.
+  std::map<std::string, std::map<std::string, std::string>> case_of;
   for (const auto& row : ledger.rows) {
     LedgerEntry e;
     e.row = &row;
     if (const auto s = source_of.find(row.id); s != source_of.end()) e.source = s->second;
-    e.readings.push_back(measure_reading(row, catalogue, manifest, ran));
+    auto followed = [&](const std::string& reading) -> std::string {
+      if (row.follow.empty()) return "";
+      const auto& m = case_of[row.follow];
+      const auto it = m.find(reading);
+      // A reading the followed row does not try: its own reading's case.
+      const std::string c = it != m.end() ? it->second : m.count("") ? m.at("") : "";
+      return c.empty() ? std::string("\x01none") : c;  // nothing to follow: nothing read
+    };
+    e.readings.push_back(measure_reading(row, catalogue, manifest, ran, followed("")));
+    case_of[row.id][""] = e.readings.back().from_case;
     evaluate_checks(e.readings.back(), row.checks, catalogue, manifest, ran);
     for (const auto& t : row.tries) {
-      e.readings.push_back(measure_reading(*t.row, catalogue, manifest, ran));
+      e.readings.push_back(measure_reading(*t.row, catalogue, manifest, ran, followed(t.name)));
+      case_of[row.id][t.name] = e.readings.back().from_case;
       e.readings.back().reading = &t;
       evaluate_checks(e.readings.back(), t.checks, catalogue, manifest, ran);
     }

@@ -177,7 +177,8 @@ namespace {
 const std::vector<std::string> kRowKeys = {
     "id", "source", "claim", "reading", "reason", "quote", "case", "cases", "problem",
     "problem_params", "method", "method_params", "published", "quantity", "nodes", "paper",
-    "tolerance", "compare", "measure", "statistic", "finding", "try", "check", "role"};
+    "tolerance", "compare", "measure", "statistic", "finding", "try", "check", "role",
+    "follow"};
 
 }  // namespace
 
@@ -549,6 +550,15 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
     row.published_source = get_string(r, *t, "published", false, row.line);
     row.quantity = get_string(r, *t, "quantity", false, row.line);
     row.measure = get_string(r, *t, "measure", false, row.line);
+    row.follow = get_string(r, *t, "follow", false, row.line);
+    if (!row.follow.empty()) {
+      const auto f = std::find_if(ledger.rows.begin(), ledger.rows.end(),
+                                  [&](const LedgerRow& x) { return x.id == row.follow; });
+      if (f == ledger.rows.end() || f->kind != LedgerRow::Kind::measure || row.measure.empty())
+        r.fail(row.line, fmt::format("row '{}' follows '{}', which is no earlier measure row "
+                                     "(or this row measures nothing)", row.id, row.follow),
+               "name an earlier measure row of the same figure");
+    }
     const std::string finding = get_string(r, *t, "finding", false, row.line);
     if (t->get("case")) row.cases = {get_string(r, *t, "case", true, row.line)};
     if (const auto* c = t->get("cases")) {

@@ -515,6 +515,7 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       }
       if (o.row->kind == LedgerRow::Kind::measure) {
         rd["measure"] = o.row->measure;
+        if (!o.from_case.empty()) rd["from_case"] = o.from_case;
         rd["statistic"] = o.row->statistic == RateStatistic::finest_pair ? "finest_pair"
                           : o.row->statistic == RateStatistic::best_pair ? "best_pair"
                                                                          : "least_squares";
