@@ -11,6 +11,7 @@
 #include "reports/plot.hpp"
 #include "analyses/report_section.hpp"
 #include "analyses/case_vtk.hpp"
+#include "analyses/order_of_accuracy.hpp"
 #include "reports/vtk.hpp"
 
 namespace mfv {
@@ -90,17 +91,43 @@ std::string findings_text(const Registries& plugins, const Problem& problem,
   return text;
 }
 
+/// Every static study's observed orders beside its method's formal ones (issue 46).
+std::string order_block(const Registries& plugins, const std::vector<StudyResult>& studies) {
+  MarkdownTable t({"study", "formal L2 / H1", "observed L2 (finest pair, least squares)",
+                   "L2 verdict", "observed H1", "H1 verdict", "formal order's source"},
+                  {'l', 'l', 'l', 'l', 'l', 'l', 'l'});
+  int rows = 0;
+  for (const auto& s : studies) {
+    if (s.cases.size() < 2 || !std::isfinite(s.cases.front().errors.h1_semi_rel)) continue;
+    const OrderJudgement j = judge_order(plugins, s);
+    if (j.norms.size() != 2) continue;
+    auto obs = [](const NormOrder& n) {
+      return fmt::format("{:.2f} ({:.2f})", n.observed, n.least_squares);
+    };
+    t.add_row({s.label,
+               j.formal.declared() ? fmt::format("{:g} / {:g}", j.formal.l2, j.formal.h1) : "–",
+               obs(j.norms[0]), j.norms[0].verdict, obs(j.norms[1]), j.norms[1].verdict,
+               j.formal.source});
+    ++rows;
+  }
+  if (rows == 0) return "";
+  return "**Order of accuracy** (observed on the finest pair and by least squares, against the "
+         "order each method declares; at formal order within " +
+         fmt::format("{:g}", kOrderTolerance) + "):\n\n" + t.str() + "\n";
+}
+
 std::string findings_block(const Registries& plugins, const Problem& problem,
                            const std::vector<StudyResult>& studies) {
   const auto findings = problem.findings();
-  if (findings.empty()) return "";
+  const std::string orders = order_block(plugins, studies);
+  if (findings.empty()) return orders;
   MarkdownTable t({"source", "finding", "our criterion", "verdict", "ours"},
                   {'l', 'l', 'l', 'l', 'l'});
   for (const auto& o : check_findings(plugins, findings, studies))
     t.add_row({o.finding->source, o.finding->claim, o.finding->criterion,
                "**" + o.verdict.status + "**",
                o.ran.empty() ? o.verdict.ours : o.verdict.ours + " (" + o.ran + ")"});
-  return t.str() + "\n";
+  return orders + t.str() + "\n";
 }
 
 std::string write_elasticity_section(const Registries& catalogue, const ReportSection& section,

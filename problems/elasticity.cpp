@@ -245,6 +245,14 @@ AssembledSystem assemble_elasticity(const Discretization& d, const ElasticityBVP
   s.components = 2;
   stiffness(d, bvp.material.D(), s.K);
   s.f = Eigen::VectorXd::Zero(2 * n);
+  if (bvp.body_force) {
+    const Eigen::MatrixXd b = bvp.body_force(d.quadrature.points);
+    const ShapeTable& t = d.test_q;
+    for (int q = 0; q < t.points(); ++q)
+      for (int k = t.offsets[q]; k < t.offsets[q + 1]; ++k)
+        for (int c = 0; c < 2; ++c)
+          s.f[2 * t.index[k] + c] += d.quadrature.weights[q] * t.value[k] * b(c, q);
+  }
   for (const auto& [side, traction] : bvp.tractions) {
     const IntegrationRule b = d.boundary_rule(side);
     const ShapeTable t = d.test_on(b);

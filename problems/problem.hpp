@@ -204,6 +204,9 @@ struct ElasticityBVP {
   std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> tractions;
   /// Prescribed displacement u(x) (2 × n) per clamped side.
   std::map<int, std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)>> displacements;
+  /// Body force b(x) per unit volume (2 × n), integrated on the method's domain rule with its
+  /// test functions (∫ N^test_I b dΩ); empty: none.
+  std::function<Eigen::MatrixXd(const Eigen::MatrixXd&)> body_force;
   /// Clamped sides whose clamp covers the supports: besides the particles on the side, every
   /// particle whose support reaches the side is held at the prescribed displacement (at its own
   /// position). Default: only the particles on the side.
@@ -223,5 +226,12 @@ struct ScalarForm1D {
 };
 AssembledSystem assemble_scalar_1d(const Discretization& d, const ScalarForm1D& form,
                                    const std::function<double(double)>& source);
+
+/// −∇·(k ∇u) = f in 2D on the method's tables: K_IJ = Σ_q w_q k ∇N^test_I · ∇N^trial_J,
+/// f_I = Σ_q w_q N^test_I f, and u = g held at the particles of every side of the box (their
+/// projections onto the side; the particle itself for particle-value methods).
+AssembledSystem assemble_scalar_2d(const Discretization& d, double k,
+                                   const std::function<double(double, double)>& source,
+                                   const std::function<double(double, double)>& dirichlet);
 
 }  // namespace mfv

@@ -32,6 +32,14 @@ void register_efg(MethodRegistry& r, const MethodParts& parts) {
           g.description = fmt::format("MLS basis {} with {} weight, dmax={}, {}, bc={}",
                                       p.integer("basis"), p.text("kernel"), p.number("dmax"),
                                       p.text("integration"), p.text("bc"));
+          const int b = p.integer("basis");
+          g.formal = integration == "gauss-cells"
+                         ? FormalOrder{b + 1.0, static_cast<double>(b),
+                                       fmt::format("MLS basis of order {}, Gauss cells "
+                                                   "(Belytschko, Lu & Gu 1994)", b)}
+                         : FormalOrder{NAN, NAN, fmt::format("{} sums miss the divergence "
+                                                             "identity near the boundary (Chen "
+                                                             "et al. 2001)", integration)};
           return make_galerkin_method(std::move(g));
         });
 }
@@ -87,6 +95,12 @@ void register_efg_variant(MethodRegistry& r, const MethodParts& parts, const std
                          ? fmt::format(" on a grid of {} cells along x", p.integer("cells"))
                          : std::string()),
               p.text("bc"));
+          g.formal = formal_order_of(
+              p, true, true, integration == "gauss-cells",
+              integration == "gauss-cells"
+                  ? "MLS linear basis, Gauss cells (Belytschko, Lu & Gu 1994)"
+                  : "nodal sums miss the divergence identity near the boundary (Chen et al. "
+                    "2001); vci=linear or quadratic declares 2 / 1");
           return vci_if_asked(p, make_galerkin_method(std::move(g)));
         });
 }

@@ -13,6 +13,7 @@ void register_fem(MethodRegistry& r, const MethodParts& parts) {
           g.penalty = p.number("penalty");
           g.description = fmt::format("linear elements, {}-point Gauss per element, bc={}",
                                       p.integer("quad"), p.text("bc"));
+          g.formal = {2, 1, "linear elements: Cea's lemma and the Aubin-Nitsche duality"};
           return make_galerkin_method(std::move(g));
         });
 }

@@ -92,6 +92,7 @@ Discretization prepare(const Domain& domain, ParticleSet& particles,
 class GalerkinMethod final : public Method {
  public:
   explicit GalerkinMethod(GalerkinRecipe r) : r_(std::move(r)) {}
+  FormalOrder formal_order() const override { return r_.formal; }
 
   Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
     if (particles.size() < r_.trial->minimum_support_count(particles.dim) + 1)
@@ -135,6 +136,7 @@ class GalerkinMethod final : public Method {
 class ParticleMethod final : public Method {
  public:
   explicit ParticleMethod(ParticleRecipe r) : r_(std::move(r)) {}
+  FormalOrder formal_order() const override { return r_.formal; }
 
   Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
     Discretization d = prepare(domain, particles, r_.integration, r_.dilation,
@@ -161,6 +163,21 @@ std::unique_ptr<Method> make_galerkin_method(GalerkinRecipe recipe) {
 
 std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe) {
   return std::make_unique<ParticleMethod>(std::move(recipe));
+}
+
+FormalOrder formal_order_of(const Params& p, bool linear_trial, bool linear_tests,
+                            bool consistent_quadrature, const std::string& why) {
+  const std::string vci = p.has("vci") ? p.text("vci") : "false";
+  if (!linear_trial)
+    return {NAN, NAN, "the trial gradient is not linearly consistent: no order to declare"};
+  if (vci == "quadratic")
+    return {2, 1, "linear consistency, quadratic VCI meets both divergence identities (Chen, "
+                  "Hillman & Ruter 2013)"};
+  if ((vci == "true" || vci == "linear") && linear_tests)
+    return {2, 1, "linear consistency, linear VCI with linearly complete test functions (Chen, "
+                  "Hillman & Ruter 2013)"};
+  if (consistent_quadrature) return {2, 1, why};
+  return {NAN, NAN, why};
 }
 
 std::unique_ptr<Method> vci_if_asked(const Params& p, std::unique_ptr<Method> method) {

@@ -4,6 +4,7 @@
 /// assembled from fluxes (stresses). Static solvers, explicit dynamics and stability analyses
 /// all go through these two, so a method plugs into every analysis at once.
 #pragma once
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -100,9 +101,22 @@ struct Retabulation {
   long rebuilds() const { return at_particles.rebuilds() + at_points.rebuilds(); }
 };
 
+/// The order of accuracy a method declares on a smooth solution (issue 46): the exponents of
+/// h in the L2 and H1-seminorm errors that its theory gives, with the source; NaN when it
+/// declares none (then `source` says why: e.g. nodal sums that miss the divergence identity).
+struct FormalOrder {
+  double l2 = NAN, h1 = NAN;
+  std::string source;
+  bool declared() const { return std::isfinite(l2) || std::isfinite(h1); }
+};
+
 class Method {
  public:
   virtual ~Method() = default;
+  /// The formal order of accuracy on a smooth solution (issue 46); undeclared by default.
+  virtual FormalOrder formal_order() const {
+    return {NAN, NAN, "the method declares no formal order"};
+  }
   /// Sets particle dilations from the method's parameters, builds the quadrature and the
   /// shape function tables up to derivative `order` (the weak form's need).
   virtual Discretization discretize(const Domain& domain, ParticleSet particles,
@@ -135,6 +149,7 @@ struct GalerkinRecipe {
   EssentialBC essential = EssentialBC::lagrange;
   double penalty = 1e8;
   std::string description;
+  FormalOrder formal;  ///< the order it declares (formal_order_of helps)
 };
 
 std::unique_ptr<Method> make_galerkin_method(GalerkinRecipe recipe);
@@ -160,7 +175,16 @@ struct ParticleRecipe {
   double penalty = 1e8;
   TableBuilder build;
   std::string description;
+  FormalOrder formal;  ///< the order it declares (formal_order_of helps)
 };
+
+/// The formal order of a method with a linearly consistent trial gradient (or not), given how
+/// its quadrature meets the divergence identities: quadratic VCI meets both (L2 2, H1 1:
+/// Chen, Hillman & Rüter 2013); linear VCI meets the first, enough with linearly complete
+/// test functions; otherwise `consistent_quadrature` (Gauss cells: source `why`) or none
+/// (`why` says why). `p` is the method's parameters (its `vci`, if it has one).
+FormalOrder formal_order_of(const Params& p, bool linear_trial, bool linear_tests,
+                            bool consistent_quadrature, const std::string& why);
 std::unique_ptr<Method> make_particle_method(ParticleRecipe recipe);
 /// `method` wrapped in variationally consistent integration (methods/methods/vci.hpp) when the
 /// parameters say vci=true (particle_method_schema declares it), else `method` itself.

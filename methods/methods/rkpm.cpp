@@ -68,6 +68,7 @@ void register_rkpm(MethodRegistry& r, const MethodParts& parts) {
     g.description = fmt::format("RKPM {} window, j={}, a={:.4g} dx ({}), {} derivative, bc={}",
                                 p.text("kernel"), p.number("j"), g.dilation_over_spacing,
                                 p.text("rule"), p.text("derivative"), p.text("bc"));
+    g.formal = {2, 1, "linear reproducing conditions, Gauss cells (Liu, Jun & Zhang 1995)"};
     return make_galerkin_method(std::move(g));
   });
 }

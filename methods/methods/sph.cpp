@@ -40,6 +40,11 @@ std::unique_ptr<Method> make_collocation_method(const MethodParts& parts, const 
       "{}, {} kernel, support {}; particle values fixed directly at essential boundaries; "
       "fields between particles: linear MLS fit",
       name, p.text("kernel"), support_text(p));
+  // Randles-Libersky's B makes the gradient linearly consistent; plain SPH's is not.
+  const bool linear = name.find("Randles") != std::string::npos;
+  g.formal = formal_order_of(p, linear, false, false,
+                             "collocation at the particles: no Galerkin identity to meet (vci=quadratic "
+                             "declares 2 / 1)");
   return vci_if_asked(p, make_particle_method(std::move(g)));
 }
 
@@ -79,6 +84,8 @@ void register_sph(MethodRegistry& r, const MethodParts& parts) {
           g.penalty = p.number("penalty");
           g.description = fmt::format("SPH {} kernel, a={:.4g} dx, bc={}", p.text("kernel"),
                                       p.number("h"), p.text("bc"));
+          g.formal = {NAN, NAN, "the plain kernel estimate reproduces no polynomial: no order "
+                                "to declare"};
           return make_galerkin_method(std::move(g));
         });
 }

@@ -108,6 +108,8 @@ class VciMethod final : public Method {
   VciMethod(std::unique_ptr<Method> inner, VciOrder order)
       : inner_(std::move(inner)), order_(order) {}
 
+  FormalOrder formal_order() const override { return inner_->formal_order(); }
+
   Discretization discretize(const Domain& domain, ParticleSet particles, int order) const override {
     // Quadratic VCI needs the test functions' values as well as their gradients.
     Discretization d = inner_->discretize(domain, std::move(particles), order);

@@ -46,6 +46,8 @@ void register_wavelet(MethodRegistry& r, const MethodParts& parts) {
                                       "dilations from {} dx, bc={}",
                                       p.number("j"), g.dilation_over_spacing, p.text("rule"),
                                       p.integer("bands"), p.number("wscale"), p.text("bc"));
+          g.formal = {2, 1, "the RK low band's linear reproducing conditions, Gauss cells (004 I "
+                            "§4)"};
           return make_galerkin_method(std::move(g));
         });
 }

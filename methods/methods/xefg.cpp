@@ -24,6 +24,7 @@ class XefgMethod final : public Method {
  public:
   XefgMethod(std::unique_ptr<Method> inner, std::shared_ptr<const EnrichedApproximation> trial)
       : inner_(std::move(inner)), trial_(std::move(trial)) {}
+  FormalOrder formal_order() const override { return inner_->formal_order(); }
   Discretization discretize(const Domain& domain, ParticleSet particles,
                             int order) const override {
     if (trial_ && trial_->crack().has_tip() && domain.dim != 2)
@@ -106,6 +107,8 @@ void register_xefg(MethodRegistry& r, const MethodParts& parts) {
                                   c.tip, c.branch ? " and branch functions at the tip" : "")
                     : fmt::format("{}; crack at x={}, step enrichment", base, c.position);
           }
+          g.formal = {2, 1, "MLS linear basis, Gauss cells (split at the crack): a smooth solution "
+                            "away from the crack (Belytschko, Lu & Gu 1994)"};
           return std::make_unique<XefgMethod>(make_galerkin_method(std::move(g)), enriched);
         });
 }
