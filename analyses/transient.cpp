@@ -95,6 +95,9 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                         "Eulerian kernel: particle shifting dr = -D h^2 grad C at every "
                         "recomputation, D in [0, 1] (0: off; Xu et al. 2009, Lind et al. 2012; "
                         "dynamics/fluid_remedies.hpp)"),
+      ParamSpec::choice("shifting_form", "fickian", {"fickian", "xu"},
+                        "particle shifting: Lind et al.'s Fickian -D h^2 grad C, or Xu et al.'s "
+                        "repulsion D U_max dt sum (rbar^2/r^2) n of the neighbours"),
       ParamSpec::number("shifting_surface", 0.95,
                         "particle concentration C below which shifting moves a particle "
                         "tangentially only (free surface, walls; 1.02 inside the lattice)"),
@@ -133,6 +136,7 @@ DynamicsOptions dynamics_options(const Params& p) {
   o.remedies.diffusion_form = diffusion_form_from(p.text("density_diffusion_form"));
   o.remedies.shifting = p.number("shifting");
   o.remedies.shifting_surface = p.number("shifting_surface");
+  o.remedies.shifting_form = shifting_form_from(p.text("shifting_form"));
   o.remedies.validate();
   if (o.remedies.any() && p.text("engine") != "native")
     throw InputError("density_filter, density_diffusion and shifting run on the native engine "

@@ -33,6 +33,15 @@ DiffusionForm diffusion_form_from(const std::string& name) {
                                name));
 }
 
+ShiftingForm shifting_form_from(const std::string& name) {
+  if (name == "fickian") return ShiftingForm::fickian;
+  if (name == "xu") return ShiftingForm::xu;
+  throw InputError(fmt::format("unknown shifting_form '{}'; valid: fickian (Lind et al. 2012, "
+                               "-D h^2 grad C), xu (Xu et al. 2009, the neighbours' 1/r^2 "
+                               "repulsion)",
+                               name));
+}
+
 void FluidRemedies::validate() const {
   if (filter_every < 1)
     throw InputError(fmt::format("density_filter_every = {} must be at least 1 (steps between "
@@ -67,7 +76,8 @@ std::string FluidRemedies::description() const {
                      diffusion_form == DiffusionForm::antuono ? "Antuono et al. 2010"
                                                               : "Molteni & Colagrossi 2009");
   if (shifting > 0)
-    s += fmt::format(", particle shifting D={:g} (tangential below C={:g})", shifting,
+    s += fmt::format(", particle shifting D={:g} ({}, tangential below C={:g})", shifting,
+                     shifting_form == ShiftingForm::xu ? "Xu et al. 2009" : "Lind et al. 2012",
                      shifting_surface);
   return s;
 }
@@ -234,7 +244,8 @@ Eigen::VectorXd concentration(const Eigen::MatrixXd& x, double h, double dx) {
 }
 
 Eigen::MatrixXd shifts(const Eigen::MatrixXd& x, double h, double dx, double D, double surface,
-                       const std::vector<char>& held, const Eigen::MatrixXd& wall_normal) {
+                       const std::vector<char>& held, const Eigen::MatrixXd& wall_normal,
+                       ShiftingForm form, double alpha) {
   const Pairs pairs(x, h);
   const Eigen::Index n = x.cols();
   // C_I and ∇C_I first: a particle near one below `surface` (its vicinity) shifts
@@ -254,6 +265,29 @@ Eigen::MatrixXd shifts(const Eigen::MatrixXd& x, double h, double dx, double D, 
     for (int e = pairs.offsets[i]; e < pairs.offsets[i + 1] && !near_surface; ++e)
       near_surface = C[pairs.index[e]] < surface;
     Eigen::Vector2d d = -D * h * h * gC.col(i);
+    if (form == ShiftingForm::xu) {
+      // r̄_I the mean neighbour distance; a pair closer than 1e-3 Δx counts at that distance.
+      double mean = 0;
+      int count = 0;
+      for (int e = pairs.offsets[i]; e < pairs.offsets[i + 1]; ++e)
+        if (pairs.index[e] != i) {
+          mean += (x.col(i) - x.col(pairs.index[e])).norm();
+          ++count;
+        }
+      d.setZero();
+      if (count > 0) {
+        mean /= count;
+        for (int e = pairs.offsets[i]; e < pairs.offsets[i + 1]; ++e) {
+          const int j = pairs.index[e];
+          if (j == i) continue;
+          const Eigen::Vector2d xij = x.col(i) - x.col(j);
+          const double r = std::max(xij.norm(), 1e-3 * dx);
+          const Eigen::Vector2d nij =
+              xij.norm() > 0 ? Eigen::Vector2d(xij / xij.norm()) : Eigen::Vector2d::UnitX();
+          d += D * alpha * mean * mean / (r * r) * nij;
+        }
+      }
+    }
     if (near_surface && gC.col(i).norm() > 0) {
       const Eigen::Vector2d nrm = gC.col(i).normalized();
       d -= d.dot(nrm) * nrm;
@@ -373,8 +407,12 @@ void ExplicitDynamics::apply_fluid_remedies(double dt) {
         }
       }
     }
+    // Xu et al.'s α = U_max Δt over the time since the last move (update_every steps).
+    double u_max = 0;
+    for (int I = 0; I < n_; ++I) u_max = std::max(u_max, v_.segment<2>(2 * I).norm());
     const Eigen::MatrixXd dr =
-        remedies::shifts(centres, h, spacing_, r.shifting, r.shifting_surface, held, normal);
+        remedies::shifts(centres, h, spacing_, r.shifting, r.shifting_surface, held, normal,
+                         r.shifting_form, u_max * dt * opt_.update_every);
     if (dr.cwiseAbs().maxCoeff() > 0) {
       // Lind et al.'s Taylor corrections: the velocity from the trial gradient at the
       // particle's own point (the tables of the last recomputation), the density from ⟨∇ρ⟩^L.

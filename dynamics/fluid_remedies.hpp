@@ -57,6 +57,13 @@
 ///     velocities: wall particles) do not move. The
 ///     fields follow by Lind's first-order Taylor correction, v_I += (∇v)(x_I) δr_I (the trial
 ///     gradient at the particle) and ρ_q += ⟨∇ρ⟩_q^L · δx_q at every point the move displaces.
+///     `xu` (shifting_form): Xu et al.'s own shift, a repulsion of the nearest neighbours,
+///       δr_I = D α Σ_J (r̄_I² / r_IJ²) n_IJ,  n_IJ = (x_I − x_J)/r_IJ,  α = U_max Δt_s,
+///     r̄_I the mean distance to the neighbours within 2h, U_max the largest particle speed
+///     and Δt_s the time since the last move (D = 0.01-0.1: Xu's C); it grows as 1/r² where
+///     two particles close up, where the Fickian shift's ∇C vanishes with W′(0) = 0 (measured:
+///     pairs 0.001 Δx apart in the funnel's variational runs, which the Fickian shift does not
+///     part). The same cap, surface and wall projections.
 ///     The unknowns u_I move by δr_I (the supports' centres, KernelCentres::coefficients; with
 ///     `interpolated` they move by Σ_J N_J(X_I) δr_J). Nodal and stress-point rules (the
 ///     velocity gradient is read at the particles' own points).
@@ -121,9 +128,11 @@ int diffusion_substeps(double delta, double h, double c0, double dt, double dx);
 Eigen::VectorXd concentration(const Eigen::MatrixXd& x, double h, double dx);
 /// The shifts δr_I (2 × N) of the particles x: −D h² ∇C_I, capped at kMaxShift Δx, tangential
 /// only where C_I < surface or a neighbour's is, zero where `held`; `wall_normal` (2 × N, or empty) removes, where
-/// a column is not zero, the component along it (a rigid wall's normal at the particle).
+/// a column is not zero, the component along it (a rigid wall's normal at the particle);
+/// `xu`: Xu et al.'s δr_I = D α Σ_J (r̄_I²/r_IJ²) n_IJ instead of the Fickian −D h² ∇C_I.
 Eigen::MatrixXd shifts(const Eigen::MatrixXd& x, double h, double dx, double D, double surface,
-                       const std::vector<char>& held, const Eigen::MatrixXd& wall_normal = {});
+                       const std::vector<char>& held, const Eigen::MatrixXd& wall_normal = {},
+                       ShiftingForm form = ShiftingForm::fickian, double alpha = 0);
 
 }  // namespace remedies
 }  // namespace mfv

@@ -8,6 +8,7 @@ namespace mfv {
 
 enum class DensityFilter { off, shepard, mls };
 enum class DiffusionForm { molteni, antuono };
+enum class ShiftingForm { fickian, xu };
 
 /// The remedies' options (DynamicsOptions::remedies); all off by default.
 struct FluidRemedies {
@@ -17,6 +18,7 @@ struct FluidRemedies {
   DiffusionForm diffusion_form = DiffusionForm::antuono;
   double shifting = 0;           ///< D of the particle shifting; 0: off
   double shifting_surface = 0.95;  ///< C_I below which a particle shifts tangentially only
+  ShiftingForm shifting_form = ShiftingForm::fickian;  ///< Lind et al.'s, or Xu et al.'s
   bool any() const { return filter != DensityFilter::off || diffusion > 0 || shifting > 0; }
   /// Throws InputError naming the parameter (the transient analysis's names) and the fix.
   void validate() const;
@@ -25,5 +27,6 @@ struct FluidRemedies {
 
 DensityFilter density_filter_from(const std::string& name);
 DiffusionForm diffusion_form_from(const std::string& name);
+ShiftingForm shifting_form_from(const std::string& name);
 
 }  // namespace mfv

@@ -176,6 +176,35 @@ TEST(FluidRemedies, ShiftingLeavesAUniformLatticeInPlaceAndMovesADisplacedPartic
   EXPECT_NEAR(walled(0, k), 0.0, 1e-15);
 }
 
+TEST(FluidRemedies, XuShiftingPartsAClosePairAndLeavesALatticeInPlace) {
+  // Xu et al.'s repulsion: the uniform lattice's interior does not move (symmetric
+  // neighbours), its edges shift only tangentially, which leaves a residual below 0.005 Δx
+  // next to the corners (there ∇C, whose component goes, and the repulsion point differently);
+  // a particle added 0.01 Δx from another parts them along their line (the Fickian shift's
+  // ∇C vanishes there, W′(0) = 0), capped at 0.1 Δx.
+  const int n = 12;
+  const double dx = 0.01, h = kRemedySmoothing * dx, alpha = 0.05 * dx;
+  Eigen::MatrixXd x = square(n, dx);
+  const std::vector<char> none;
+  const Eigen::MatrixXd still =
+      remedies::shifts(x, h, dx, 0.05, 0.95, none, {}, ShiftingForm::xu, alpha);
+  for (int k : interior(n, 3)) EXPECT_LT(still.col(k).norm(), 1e-12 * dx) << k;
+  EXPECT_LT(still.colwise().norm().maxCoeff(), 0.005 * dx);
+  const int a = 5 + n * 5;
+  Eigen::MatrixXd y(2, n * n + 1);
+  y << x, x.col(a) + Eigen::Vector2d(0.01 * dx, 0);
+  const int b = n * n;
+  const Eigen::MatrixXd xu =
+      remedies::shifts(y, h, dx, 0.05, 0.95, none, {}, ShiftingForm::xu, alpha);
+  EXPECT_LT(xu(0, a), -0.05 * dx);
+  EXPECT_GT(xu(0, b), 0.05 * dx);
+  EXPECT_LE(xu.colwise().norm().maxCoeff(), kMaxShift * dx * (1 + 1e-12));
+  const Eigen::MatrixXd fick = remedies::shifts(y, h, dx, 0.05, 0.95, none);
+  EXPECT_LT(std::abs(fick(0, b) - fick(0, a)), 0.01 * std::abs(xu(0, b) - xu(0, a)));
+  EXPECT_EQ(shifting_form_from("xu"), ShiftingForm::xu);
+  EXPECT_THROW(shifting_form_from("ficks"), InputError);
+}
+
 TEST(FluidRemedies, OptionsAreOffByDefaultAndBadOnesAreInputErrors) {
   const FluidRemedies off;
   EXPECT_FALSE(off.any());
