@@ -77,6 +77,30 @@ ParamSchema dynamics_schema(const std::string& default_integrator, double defaul
                           "largest energy drift a run may end with, relative to its energy "
                           "(max |K + W_int - W_ext - E0| over max(E0, K, |W_ext|)); above it "
                           "the run is unstable"),
+      ParamSpec::choice("density_filter", "off", {"off", "shepard", "mls"},
+                        "Eulerian kernel, fluids: re-initialize the density every "
+                        "density_filter_every steps by its Shepard or MLS kernel average "
+                        "(Colagrossi & Landrini 2003; dynamics/fluid_remedies.hpp)"),
+      ParamSpec::count("density_filter_every", 20, 1,
+                       "steps between density re-initializations (density_filter)"),
+      ParamSpec::number("density_diffusion", 0.0,
+                        "Eulerian kernel, fluids: delta of the delta-SPH diffusive term "
+                        "delta h c0 sum psi_ij . grad W_ij V_j in the continuity equation, in "
+                        "[0, 1] (0.1 usual; 0: off; Molteni & Colagrossi 2009, Antuono et al. "
+                        "2010; dynamics/fluid_remedies.hpp)"),
+      ParamSpec::choice("density_diffusion_form", "antuono", {"antuono", "molteni"},
+                        "psi_ij of the density diffusion: with the renormalized density "
+                        "gradients subtracted (antuono, delta-SPH) or without (molteni)"),
+      ParamSpec::number("shifting", 0.0,
+                        "Eulerian kernel: particle shifting dr = -D h^2 grad C at every "
+                        "recomputation, D in [0, 1] (0: off; Xu et al. 2009, Lind et al. 2012; "
+                        "dynamics/fluid_remedies.hpp)"),
+      ParamSpec::choice("shifting_form", "fickian", {"fickian", "xu"},
+                        "particle shifting: Lind et al.'s Fickian -D h^2 grad C, or Xu et al.'s "
+                        "repulsion D U_max dt sum (rbar^2/r^2) n of the neighbours"),
+      ParamSpec::number("shifting_surface", 0.95,
+                        "particle concentration C below which shifting moves a particle "
+                        "tangentially only (free surface, walls; 1.02 inside the lattice)"),
       ParamSpec::count("frames", 12, 0, "VTK snapshots per run (0: none)"),
       ParamSpec::count("samples", 200, 2, "rows of the time histories per run"),
   };
@@ -106,6 +130,17 @@ DynamicsOptions dynamics_options(const Params& p) {
   o.threads = p.integer("threads");
   o.order = particle_order_from(p.text("reorder"));
   o.support = support_rule_from(p.text("support"));
+  o.remedies.filter = density_filter_from(p.text("density_filter"));
+  o.remedies.filter_every = p.integer("density_filter_every");
+  o.remedies.diffusion = p.number("density_diffusion");
+  o.remedies.diffusion_form = diffusion_form_from(p.text("density_diffusion_form"));
+  o.remedies.shifting = p.number("shifting");
+  o.remedies.shifting_surface = p.number("shifting_surface");
+  o.remedies.shifting_form = shifting_form_from(p.text("shifting_form"));
+  o.remedies.validate();
+  if (o.remedies.any() && p.text("engine") != "native")
+    throw InputError("density_filter, density_diffusion and shifting run on the native engine "
+                     "only (engine=native)");
   if (o.support != SupportRule::fixed && p.text("engine") != "native")
     throw InputError("support=adaptive|stretch runs on the native engine only (engine=native); the "
                      "PETSc engine keeps the t = 0 supports");

@@ -400,6 +400,7 @@ ExplicitDynamics::ExplicitDynamics(const Method& method, Discretization d, Dynam
                                    "wall_traction=off",
                                    why));
   }
+  if (opt_.remedies.any()) check_fluid_remedies();
   const int dd = dim_ * dim_;
   F_.assign(static_cast<std::size_t>(dd) * nq_, 0.0);
   for (int q = 0; q < nq_; ++q)
@@ -1020,6 +1021,7 @@ void ExplicitDynamics::step(double dt) {
   t_ += dt;
   apply_prescribed(t_, v_, a_);
   ++counters_.steps;
+  if (opt_.frame == KernelFrame::eulerian && opt_.remedies.any()) apply_fluid_remedies(dt);
   if (opt_.frame == KernelFrame::eulerian && counters_.steps % opt_.update_every == 0) retabulate();
   energy_.kinetic = kinetic_energy();
 }
@@ -1215,7 +1217,9 @@ std::string ExplicitDynamics::description() const {
       opt_.force == ForceForm::variational
           ? ", variational internal force (transpose of the trial gradient)"
           : "",
-      opt_.volume_average == VolumeAverage::patch ? ", F-bar over the particles' patches" : "",
+      opt_.volume_average == VolumeAverage::patch
+          ? ", F-bar over the particles' patches" + opt_.remedies.description()
+          : opt_.remedies.description(),
       opt_.threads, opt_.threads > 1 ? "s" : "",
       renumbered_ ? ", particles and points renumbered along the Hilbert curve" : "");
 }

@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include "dynamics/fluid_remedy_options.hpp"
 #include "methods/materials/material.hpp"
 #include "methods/methods/method.hpp"
 
@@ -176,6 +177,9 @@ struct DynamicsOptions {
   /// Eulerian: the support radii follow the material (issue 27, 001 eq 16's h(x, t)) or keep
   /// their t = 0 size in the current configuration (today's runs).
   SupportRule support = SupportRule::fixed;
+  /// Eulerian: the fluid remedies (density filter, density diffusion, particle shifting;
+  /// dynamics/fluid_remedies.hpp), all off by default.
+  FluidRemedies remedies;
 };
 
 /// A prescribed velocity of one unknown (particle, component): v(t), or nothing (free) once
@@ -386,6 +390,14 @@ class ExplicitDynamics {
   /// DynamicsModel::tensionless_points: their stresses' pulling isotropic parts dropped.
   void release_tension() const;
   void apply_prescribed(double t, Eigen::VectorXd& v, Eigen::VectorXd& a) const;
+  /// DynamicsOptions::remedies (defined in dynamics/fluid_remedies.cpp): the checks at
+  /// construction, the remedies due after step counters_.steps (before that step's
+  /// recomputation of the tables), the supports' current centres, and the integration
+  /// points' current positions for those centres.
+  void check_fluid_remedies() const;
+  void apply_fluid_remedies(double dt);
+  Eigen::MatrixXd remedy_centres() const;
+  Eigen::MatrixXd remedy_points(const Eigen::MatrixXd& centres) const;
 
   const Method& method_;
   Discretization d_;

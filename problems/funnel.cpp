@@ -108,7 +108,8 @@ class Funnel final : public TransientProblem {
       throw InputError(fmt::format("funnel: perturbation = {} is not supported (the lattice "
                                    "keeps every particle Δx/2 from the walls); give 0",
                                    perturbation));
-    return funnel::funnel_lattice(geometry_, level(), geometry_.outlet / nodes);
+    return funnel::funnel_lattice(geometry_, level(), geometry_.outlet / nodes, 2000000,
+                                  wall_particles() ? p_.integer("wall_layers") : 0);
   }
 
   TransientDefinition define(const Discretization& d, const TransientInputs& in) const override;
@@ -123,6 +124,7 @@ class Funnel final : public TransientProblem {
 
  private:
   double level() const { return p_.number("level"); }
+  bool wall_particles() const { return p_.text("walls") == "particles"; }
   double end_time() const { return p_.number("end_time"); }
   /// The band's two edges (see the file comment).
   funnel::Torricelli fast_edge() const {
@@ -145,9 +147,30 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
   fluid::Setup setup;
   setup.water = water_;
   setup.surface = H0;
-  for (const auto& w : funnel::wall_segments(geometry_)) setup.walls.push_back({w[0], w[1]});
+  const bool wall_particles = this->wall_particles();
+  if (!wall_particles)
+    for (const auto& w : funnel::wall_segments(geometry_)) setup.walls.push_back({w[0], w[1]});
   def.model = fluid::water_model(d, in.materials, setup);
-  const Eigen::VectorXd mass = def.model.mass;
+  // walls=particles: the water's particles and points are those inside the funnel; the wall
+  // particles (dummy particles, as hydrostatic-column's: Crespo et al. 2007) are held still,
+  // their points carry no tension, and they count in no measure of the water.
+  std::vector<char> is_water(n, 1);
+  std::vector<int> water_points;
+  if (wall_particles) {
+    for (int I = 0; I < n; ++I)
+      if (!funnel::inside(geometry_, ps.x.col(I))) {
+        is_water[I] = 0;
+        for (int c = 0; c < 2; ++c) def.model.prescribed.push_back({I, c, 0.0});
+      }
+    for (Eigen::Index q = 0; q < d.quadrature.points.cols(); ++q)
+      (funnel::inside(geometry_, d.quadrature.points.col(q)) ? water_points
+                                                            : def.model.tensionless_points)
+          .push_back(static_cast<int>(q));
+  }
+  // The water's masses (the wall particles' zero): the drained fraction's.
+  Eigen::VectorXd mass = def.model.mass;
+  for (int I = 0; I < n; ++I)
+    if (!is_water[I]) mass[I] = 0;
   const double total_mass = mass.sum();
   def.end_time = t_end;
   // The catalogue's end time, 0.5 s, is a checkpoint when the run goes beyond it.
@@ -156,8 +179,12 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
                                           : std::vector<double>{t_end};
   def.label = "funnel";
   def.notes = fmt::format("water to {:g} m in the funnel, outlet {:g} mm, gravity {:g} m/s², "
-                          "penalty walls (reach Δx/2), no deletion: drained water falls freely",
-                          H0, geometry_.outlet * 1e3, g);
+                          "{}, no deletion: drained water falls freely",
+                          H0, geometry_.outlet * 1e3, g,
+                          wall_particles
+                              ? fmt::format("{} layers of dummy wall particles held still",
+                                            p_.integer("wall_layers"))
+                              : std::string("penalty walls (reach Δx/2)"));
 
   const funnel::Geometry geometry = geometry_;
   // The band on a grid of times, for the probes and profiles.
@@ -181,7 +208,8 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
   // The settling of the discretized hydrostatic column moves water before gravity has
   // released anything: its budget is the elastic energy of the hydrostatic state.
   Eigen::VectorXd p0(n);
-  for (int I = 0; I < n; ++I) p0[I] = water_.rho0 * g * std::max(H0 - ps.x(1, I), 0.0);
+  for (int I = 0; I < n; ++I)
+    p0[I] = is_water[I] ? water_.rho0 * g * std::max(H0 - ps.x(1, I), 0.0) : 0.0;
   limits.energy_floor = fluid::stored_energy(ps.volume, p0, water_);
   const double potential0 = fluid::potential_energy(ps.x, mass, g);
 
@@ -203,6 +231,7 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
   };
   auto track = std::make_shared<Track>();
   track->watch = std::make_unique<fluid::Watch>(mass, g, potential0, limits);
+  if (wall_particles) track->watch->watch_density_at(water_points);
   track->t.push_back(0);
   track->drained.push_back(0);
 
@@ -216,7 +245,7 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
     const std::vector<int>& near = sim.particle_points();
     if (rho.size() == 0) return;
     for (int I = 0; I < n; ++I) {
-      if (!(x(1, I) > below)) continue;
+      if (!(x(1, I) > below) || !is_water[I]) continue;
       const double r = rho[near[I]];
       track->rho_min = std::min(track->rho_min, r);
       track->rho_max = std::max(track->rho_max, r);
@@ -318,6 +347,8 @@ TransientDefinition Funnel::define(const Discretization& d, const TransientInput
     m.headline["blow-up particle x (mm)"] = track->blow_up_at.x() * 1e3;
     m.headline["blow-up particle y (mm)"] = track->blow_up_at.y() * 1e3;
     m.headline["drained fraction"] = out.stopped_early ? NAN : f_end;
+    // What had drained when the run ended, blown up or not (issue 43's remedies table).
+    m.headline["drained fraction at time reached"] = f_end;
     if (t_end > kCatalogueEnd) {
       m.headline["drained fraction at 0.5 s"] = track->at_catalogue_end;
       m.headline["drained fraction at 0.5 s, band low"] = slow.drained({kCatalogueEnd}).front();
@@ -567,7 +598,13 @@ void register_funnel(ProblemRegistry& r) {
         {ParamSpec::positive("end_time", 0.6,
                              "end of the run (s, at most 5; 0.6 reaches the band's half-drain "
                              "times)"),
-         ParamSpec::positive("level", 0.25, "water level H0 at t = 0 (m, in [0.05, 0.35])")},
+         ParamSpec::positive("level", 0.25, "water level H0 at t = 0 (m, in [0.05, 0.35])"),
+         ParamSpec::choice("walls", "penalty", {"penalty", "particles"},
+                           "penalty: frictionless penalty walls (problems/fluid.hpp); particles: "
+                           "layers of the lattice outside the walls held still, as "
+                           "hydrostatic-column's dummy wall particles (issue 43)"),
+         ParamSpec::count("wall_layers", 3, 1,
+                          "walls=particles: the wall band's thickness in spacings (at most 10)")},
         [](const Params& p) { return std::make_unique<Funnel>(p); });
 }
 

@@ -188,7 +188,16 @@ double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 }
 }  // namespace
 
-ParticleSet funnel_lattice(const Geometry& g, double h0, double dx, long max_particles) {
+bool inside(const Geometry& g, const Eigen::Vector2d& x) {
+  return x.y() > 0 && x.y() < g.top && std::abs(x.x()) < 0.5 * g.width(x.y());
+}
+
+ParticleSet funnel_lattice(const Geometry& g, double h0, double dx, long max_particles,
+                           int wall_layers) {
+  if (wall_layers < 0 || wall_layers > 10)
+    throw InputError(fmt::format("funnel lattice: wall_layers = {} must be in [0, 10] (0: no "
+                                 "wall particles; 3 is the hydrostatic column's)",
+                                 wall_layers));
   if (!(dx > 0) || !std::isfinite(dx) || !(g.outlet / dx >= 2))
     throw InputError(fmt::format("funnel lattice: spacing {} m must be positive, finite and at "
                                  "most half the outlet width {} m",
@@ -220,6 +229,22 @@ ParticleSet funnel_lattice(const Geometry& g, double h0, double dx, long max_par
       index[{i, j}] = static_cast<int>(kept.size());
       kept.push_back(p);
     }
+  if (wall_layers > 0) {
+    // The wall band: lattice sites outside the funnel within wall_layers spacings of a wall.
+    const int wall_rows = static_cast<int>(std::ceil(g.top / dx - 0.5 - 1e-9));
+    const int reach_columns = columns + wall_layers + 1;
+    const double band = wall_layers * dx;
+    for (int j = 0; j < wall_rows; ++j)
+      for (int i = -reach_columns; i < reach_columns; ++i) {
+        const Eigen::Vector2d p((i + 0.5) * dx, (j + 0.5) * dx);
+        if (std::abs(p.x()) < 0.5 * g.width(p.y())) continue;  // inside the funnel
+        double d = std::numeric_limits<double>::infinity();
+        for (const auto& w : walls) d = std::min(d, distance_to_segment(p, w[0], w[1]));
+        if (d < reach || d >= band) continue;
+        index[{i, j}] = static_cast<int>(kept.size());
+        kept.push_back(p);
+      }
+  }
   const int n = static_cast<int>(kept.size());
   ParticleSet ps;
   ps.dim = 2;

@@ -78,9 +78,19 @@ double first_crossing(const std::vector<double>& t, const std::vector<double>& f
 /// `stress_points` sit at their centres with the square lattice's quad-centre split (a cell of
 /// area dx² gives dx²/2 to its stress point and dx²/8 from each corner: a particle keeps
 /// dx² − (its cells) dx²/8, so Σ V^P + Σ V^SP = N dx², the particles' volume). No box sides.
+/// `wall_layers` > 0 adds dummy wall particles after the water's (walls=particles, issue 43):
+/// the same lattice's sites outside the funnel (|x| ≥ w(y)/2, up to the walls' top) at a
+/// distance in [dx/2, wall_layers·dx) from the wall segments, so the cells that straddle no
+/// wall get stress points as the water's do (at the 45° walls the two sides' nearest sites
+/// are dx/√2 from the wall; at the vertical ones dx/2). Their volumes are split the same way.
 /// Throws InputError for a spacing that is not positive and finite, not below the outlet or
-/// that gives more than `max_particles`.
-ParticleSet funnel_lattice(const Geometry& g, double h0, double dx, long max_particles = 2000000);
+/// that gives more than `max_particles`, and for wall_layers outside [0, 10].
+ParticleSet funnel_lattice(const Geometry& g, double h0, double dx, long max_particles = 2000000,
+                           int wall_layers = 0);
+
+/// Whether a reference position is inside the funnel (between the walls, 0 < y < top): the
+/// water's particles and points; the others are wall particles (walls=particles).
+bool inside(const Geometry& g, const Eigen::Vector2d& x);
 
 /// The funnel's wall segments, in order: left cone, left vertical, right cone, right vertical
 /// (each as the pair of its ends).
