@@ -294,9 +294,9 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       const StudyResult* from = nullptr;
       std::vector<std::string> not_run, failed;
       for (const auto& id : row.cases) {
-        if (!only_case.empty() && id != only_case) continue;
         const auto it = ran.find(id);
         if (it == ran.end()) { not_run.push_back(id); continue; }
+        if (!only_case.empty() && id != only_case) continue;
         if (!it->second.study) { failed.push_back(id); continue; }
         const double v = measure_value(*it->second.study, row.measure, row.statistic);
         if (std::isfinite(v) && !(v <= best)) {
