@@ -18,7 +18,7 @@ struct Registries;
 inline constexpr double kOrderTolerance = 0.3;
 
 struct NormOrder {
-  std::string norm;          ///< "L2", "H1-semi"
+  std::string norm;          ///< "L2", and "H1-semi" (scalar) or "energy" (vector fields)
   double formal = NAN;       ///< declared; NaN: none
   double observed = NAN;     ///< finest pair
   double least_squares = NAN;
@@ -27,7 +27,7 @@ struct NormOrder {
 
 struct OrderJudgement {
   FormalOrder formal;
-  std::vector<NormOrder> norms;  ///< L2 and H1-semi
+  std::vector<NormOrder> norms;  ///< L2, then the gradient's norm
   /// "formal L2 2 / H1 1 (source): observed L2 2.01 (least squares 1.99) at formal order; …"
   std::string text() const;
 };

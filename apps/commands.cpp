@@ -163,7 +163,7 @@ std::string convergence_table(const Registries& plugins, const StudyResult& s) {
                       fmt::join(parts, "; "));
     // The observed order beside the one the method declares (issue 46), for the static
     // problems whose errors are L2 and H1 (a transient run's are not).
-    if (measured.has("l2") && measured.has("h1_seminorm"))
+    if (measured.has("l2") && (measured.has("h1_seminorm") || measured.has("energy")))
       gci += "order of accuracy: " + judge_order(plugins, s).text() + "\n";
   }
   return fmt::format("{}\n\n{}{}", s.label, t.str(), gci);

@@ -52,8 +52,7 @@ class ElasticPatch final : public BoundaryValueProblem {
   /// The energy norm's integrand σ(∇v):ε(∇v) and the stress (Voigt xx, yy, xy) for VTK
   /// files, of the patch's material rather than the default gradient.
   Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const override {
-    const Eigen::MatrixXd e = LinearElastic::strain(grad);
-    return (e.array() * (material_.D() * e).array()).colwise().sum().transpose();
+    return material_.energy_density(grad);
   }
   Eigen::MatrixXd flux(const Eigen::MatrixXd& grad) const override { return material_.stress(grad); }
   std::vector<std::string> flux_names() const override { return {"sxx", "syy", "sxy"}; }

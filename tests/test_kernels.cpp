@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "methods/integration/integration.hpp"
+#include "methods/kernels/kernel_admission.hpp"
+#include "methods/kernels/kernel_choice.hpp"
 #include "test_support.hpp"
 
 namespace mfv {
@@ -83,6 +85,12 @@ TEST_P(KernelConformance, ADimensionParameterNormalizesToOneInThatDimension) {
   }
 }
 
+TEST_P(KernelConformance, AdmittedByEveryMethod) {
+  // The check make_kernel applies (methods/kernels/kernel_admission.hpp) passes every shipped
+  // kernel at its defaults.
+  EXPECT_EQ(kernel_property_failure(*kernel()), "");
+}
+
 INSTANTIATE_TEST_SUITE_P(AllKernels, KernelConformance,
                          ::testing::ValuesIn(test_catalogue().kernels.keys()));
 
@@ -110,6 +118,59 @@ TEST(Kernels, WendlandAndQuinticValuesAtTheCentre) {
   Params four;
   four.set("dim", 4);
   EXPECT_THROW(k.create("wendland-c2", four), InputError);
+}
+
+/// A cubic spline with a negative lobe past s = 1.5, or with a derivative off by a factor 2:
+/// kernels a plugin could register, which every method must refuse (issue 46).
+class FaultyKernel final : public KernelFormula<FaultyKernel> {
+ public:
+  explicit FaultyKernel(bool negative) : negative_(negative) {}
+  void formula(double s, double& w, double& dw, double& d2w) const {
+    const double q = 2 - s;
+    w = q * q * q / 6 - (negative_ && s > 1.5 ? 0.05 : 0);
+    dw = -q * q / 2 * (negative_ ? 1 : 2);
+    d2w = q;
+  }
+  double support() const { return 2; }
+  double integral(int) const { return 1; }
+
+ private:
+  bool negative_;
+};
+
+TEST(KernelAdmission, MethodsRefuseAKernelThatFailsConformanceNamingTheCheck) {
+  KernelRegistry r("kernel");
+  register_all_kernels(r);
+  r.add("negative-lobe", "W < 0 on part of its support", {},
+        [](const Params&) { return std::make_unique<FaultyKernel>(true); });
+  r.add("wrong-derivative", "dW/ds twice the derivative of W", {},
+        [](const Params&) { return std::make_unique<FaultyKernel>(false); });
+  auto refusal = [&](const std::string& name) {
+    Params p;
+    p.set("kernel", name);
+    try {
+      make_kernel(r, p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("negative-lobe").find("not positive"), std::string::npos)
+      << refusal("negative-lobe");
+  EXPECT_NE(refusal("negative-lobe").find("'negative-lobe'"), std::string::npos);
+  EXPECT_NE(refusal("wrong-derivative").find("derivative is not W's"), std::string::npos)
+      << refusal("wrong-derivative");
+  EXPECT_EQ(refusal("cubic-spline"), "accepted");
+  // Through a method: efg takes its kernel by make_kernel, so the refusal reaches the user.
+  Extensions faulty;
+  faulty.kernels.push_back([](KernelRegistry& k) {
+    k.add("negative-lobe", "W < 0 on part of its support", {},
+          [](const Params&) { return std::make_unique<FaultyKernel>(true); });
+  });
+  const Catalogue plugins(faulty);
+  Params mp;
+  mp.set("kernel", "negative-lobe");
+  EXPECT_THROW(plugins.methods.create("efg", mp), InputError);
 }
 
 }  // namespace

@@ -93,8 +93,9 @@ TEST_P(ExactSolutions, FineFemSolvesTheStatedEquation) {
   CaseSpec spec{GetParam(), {}, "fem", {}, line ? 2401 : 33, 0};
   const CaseResult r = run_case(test_catalogue(), spec);
   // 1D: 2401 nodes resolve the peaks (width 0.05) by 20 elements: O(h^2) gives ~1e-4 in L2.
-  // 2D: Q4 on 129 × 33 (cantilever) measures 4.5e-4 in L2 and 2e-2 in energy.
-  EXPECT_LT(r.errors.l2_rel, line ? 5e-4 : 1e-3);
+  // 2D: Q4 on 129 × 33 (cantilever) measures 4.5e-4 in L2 and 2e-2 in energy; on 33 × 33 the
+  // manufactured sin 3x cos 3y + x^2 y 1.5e-3 (at rate 2.00).
+  EXPECT_LT(r.errors.l2_rel, line ? 5e-4 : 2e-3);
   EXPECT_LT(r.errors.h1_semi_rel, line ? 6e-2 : 5e-2);
 }
 

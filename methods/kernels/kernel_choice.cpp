@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "methods/core/errors.hpp"
+#include "methods/kernels/kernel_admission.hpp"
 
 namespace mfv {
 
@@ -60,7 +61,11 @@ std::unique_ptr<Kernel> make_kernel(const KernelRegistry& kernels, const Params&
     }
     own.set(param, value);
   }
-  return kernels.create(name, own);
+  // A method takes only a kernel with the properties every method needs (issue 46).
+  std::unique_ptr<Kernel> W = kernels.create(name, own);
+  if (!W) throw InputError(fmt::format("kernel '{}' built no kernel (its factory returned null)", name));
+  admit_kernel(*W, name);
+  return W;
 }
 
 Params with_kernel(Params child, const Params& parent) {

@@ -20,7 +20,8 @@ ParamSchema kernel_choice(const KernelRegistry& kernels, std::string def, std::s
                           std::vector<std::string> choices = {});
 
 /// The kernel `p` chooses, built with its `kernel-<name>` values as its own parameters.
-/// InputError when `p` sets a `kernel-<name>` the chosen kernel does not declare.
+/// InputError when `p` sets a `kernel-<name>` the chosen kernel does not declare, or when the
+/// kernel fails a property every method needs (methods/kernels/kernel_admission.hpp).
 std::unique_ptr<Kernel> make_kernel(const KernelRegistry& kernels, const Params& p);
 
 /// `child` plus `kernel` and every `kernel-<name>` set in `parent`: what a method hands to an

@@ -26,6 +26,11 @@ Eigen::MatrixXd LinearElastic::strain(const Eigen::MatrixXd& g) {
 
 Eigen::MatrixXd LinearElastic::stress(const Eigen::MatrixXd& g) const { return D() * strain(g); }
 
+Eigen::VectorXd LinearElastic::energy_density(const Eigen::MatrixXd& g) const {
+  const Eigen::MatrixXd e = strain(g);
+  return (e.array() * (D() * e).array()).colwise().sum().transpose();
+}
+
 std::string LinearElastic::describe() const {
   return fmt::format("linear elastic, E = {:g}, nu = {:g}, plane {}", E, nu,
                      plane_strain ? "strain" : "stress");

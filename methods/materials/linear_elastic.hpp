@@ -18,6 +18,9 @@ struct LinearElastic {
   Eigen::MatrixXd stress(const Eigen::MatrixXd& grad) const;
   /// Voigt strains (3 × n) from displacement gradients.
   static Eigen::MatrixXd strain(const Eigen::MatrixXd& grad);
+  /// Twice the strain energy density, ε·Dε (one per column), from displacement gradients:
+  /// the integrand of the energy norm ‖u‖²_E = ∫ ε·Dε.
+  Eigen::VectorXd energy_density(const Eigen::MatrixXd& grad) const;
   std::string describe() const;
 };
 
