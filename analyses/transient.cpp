@@ -364,6 +364,83 @@ struct CaseDirectory {
   }
 };
 
+/// The fewest steps a stable explicit run to `end_time` can take, from mfv's own critical
+/// step of the same particles: the solver may be up to kStepMargin times more stable
+/// (another scheme, mass or support) but no more. 0 when the step is not known.
+constexpr double kStepMargin = 4;
+long fewest_stable_steps(double end_time, double dt_critical) {
+  if (!(dt_critical > 0) || !std::isfinite(dt_critical) || !(end_time > 0)) return 0;
+  return static_cast<long>(std::floor(end_time / (kStepMargin * dt_critical)));
+}
+
+/// ½ Σ m_I |v_I|² with mfv's masses (ExplicitDynamics::kinetic_energy of a replayed state).
+double frame_kinetic_energy(const Eigen::VectorXd& mass, const Eigen::MatrixXd& v) {
+  double k = 0;
+  for (int I = 0; I < v.cols() && I < mass.size(); ++I) k += 0.5 * mass[I] * v.col(I).squaredNorm();
+  return k;
+}
+
+/// The solver's output against what mfv sent and against itself (ExternalSolverError naming
+/// the first disagreement), returning the factor of the solver's energy unit to mfv's:
+///   - a run set in motion (an initial velocity or a prescribed motion) does not answer with
+///     frames that are all zero;
+///   - the account's kinetic energy is proportional to the frames' with mfv's masses: a
+///     solver may keep its energies per unit thickness or area (solvers/fem-rod does), so
+///     the factor c is fixed where it is best known — at t = 0 from the initial velocity mfv
+///     sent, else at the frame of largest kinetic energy — and must be positive; then
+///     K_account(t) = c K_frame(t) at every frame within 5 % of the run's largest kinetic
+///     energy (an account sampled between the half steps of central differences lags a
+///     little; a wrong one is off by O(1)).
+/// 1 when nothing moves or there is no account.
+double check_external_account(const ExternalEnergy* energy, double k0,
+                              const std::vector<ExternalFrame>& frames, const ExternalCase& ec) {
+  const bool moved = k0 > 0 || std::any_of(ec.prescribed.begin(), ec.prescribed.end(),
+                                           [](const ExternalPrescribed& p) {
+                                             return p.value != 0;
+                                           });
+  const bool all_zero = !frames.empty() && std::all_of(frames.begin(), frames.end(),
+                                                       [](const ExternalFrame& f) {
+                                                         return f.u.isZero(0) && f.v.isZero(0);
+                                                       });
+  if (moved && all_zero)
+    throw ExternalSolverError(fmt::format(
+        "every one of the solver's {} frames is zero (displacements and velocities), though "
+        "mfv set the body in motion (initial kinetic energy {:.6g}{}): the solver did not "
+        "run the case it was given",
+        frames.size(), k0, ec.prescribed.empty() ? "" : ", prescribed velocities"));
+  if (!energy) return 1;
+  std::vector<double> kf;
+  double kmax = k0;
+  std::size_t at_max = frames.size();
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    kf.push_back(frame_kinetic_energy(ec.mass, frames[k].v));
+    if (!std::isfinite(kf.back())) return 1;  // the replay marks the run unstable
+    if (kf.back() > kmax) kmax = kf.back(), at_max = k;
+  }
+  if (!(kmax > 0)) return 1;  // nothing moves: no factor to fix
+  const double c = k0 > 0 ? energy->kinetic[0] / k0
+                          : energy->at(frames[at_max].time)[0] / kf[at_max];
+  if (!(c > 0) || !std::isfinite(c))
+    throw ExternalSolverError(fmt::format(
+        "frames/energy.csv: the kinetic energy {} is {:.6g}, but {} with mfv's masses gives "
+        "{:.6g}: the account is not of this run",
+        k0 > 0 ? "at t = 0" : fmt::format("at t = {:.6g}", frames[at_max].time),
+        k0 > 0 ? energy->kinetic[0] : energy->at(frames[at_max].time)[0],
+        k0 > 0 ? "the initial velocity mfv sent (input.json)" : "the frame",
+        k0 > 0 ? k0 : kf[at_max]));
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double ka = energy->at(frames[k].time)[0];
+    if (std::abs(ka - c * kf[k]) > 5e-2 * c * kmax)
+      throw ExternalSolverError(fmt::format(
+          "frames/energy.csv disagrees with the frames: at t = {:.6g} (frame {}) the account's "
+          "kinetic energy is {:.6g}, the frame's velocities with mfv's masses give {:.6g} "
+          "({:.6g} in the account's unit, fixed {}); beyond 5 % of the run's largest, {:.6g}",
+          frames[k].time, k, ka, kf[k], c * kf[k], k0 > 0 ? "at t = 0" : "at its largest",
+          c * kmax));
+  }
+  return c;
+}
+
 /// An external solver's run of a transient case (issue 30): the problem's definition becomes
 /// the protocol's input (dynamics/external_solver.hpp), the solver runs once, and its frames
 /// are replayed, in time order, through the problem's own measurements — checkpoints, probes,
@@ -484,6 +561,21 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   if (!def.notes.empty()) td.dynamics += "; " + def.notes;
   td.history_columns = {"time", "kinetic", "internal work", "external work", "energy balance"};
   for (const auto& n : def.probe_names) td.history_columns.push_back(n);
+  // mfv judges the replayed run by its own physics (issue 45): the kinetic energy of every
+  // frame from mfv's masses, under the engine's rules (non-finite fields, K above kEnergyBound
+  // × E_in), and the solver's account against the load mfv set and against the frames.
+  const double k0 = ec.initial_velocity.size() > 0
+                        ? frame_kinetic_energy(ec.mass, ec.initial_velocity)
+                        : 0.0;  // of the initial velocity mfv sent (input.json)
+  // mfv's own critical step of these particles at t = 0, for the drift waiver's step count.
+  const double dt_critical_mfv = state.critical_time_step();
+  const double unit = check_external_account(energy ? &*energy : nullptr, k0, out_frames, ec);
+  double energy_in = k0;  // E_in of kEnergyBound, in mfv's unit
+  if (energy) {
+    energy_in = std::max(energy_in, std::abs(energy->kinetic[0] + energy->internal_work[0] -
+                                             energy->external_work[0]) / unit);
+    for (double w : energy->external_work) energy_in = std::max(energy_in, std::abs(w) / unit);
+  }
   TransientMeasures m;
   TransientOutcome outcome;
   // The balance of the solver's own account, K + W_int − W_ext against its t = 0 value (mfv's
@@ -511,6 +603,25 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
     const ExternalFrame& f = out_frames[k];
     state.set_replayed_state(f.time, f.u, f.v);
     done = static_cast<long>(k) + 1;
+    if (const double kf = state.kinetic_energy(); !td.instability) {
+      if (!std::isfinite(kf))
+        td.instability = TransientData::Instability{
+            done, f.time,
+            fmt::format("the replayed frame {} (t = {:.6g}) has a non-finite kinetic energy "
+                        "with mfv's masses", k, f.time)};
+      else if (energy_in > 0 && kf > kEnergyBound * energy_in)
+        td.instability = TransientData::Instability{
+            done, f.time,
+            fmt::format("the replayed frame {} (t = {:.6g}): kinetic energy {:.3g} with mfv's "
+                        "masses, above {:g} × the energy put in (E_in = {:.3g}; the energy "
+                        "balance allows at most about 1 ×)",
+                        k, f.time, kf, kEnergyBound, energy_in)};
+      // As the engine does: a blown-up run stops there, its later checkpoints not reached.
+      if (td.instability) {
+        record();
+        break;
+      }
+    }
     td.max_displacement = std::max(td.max_displacement, f.u.cwiseAbs().maxCoeff());
     for (std::size_t q = 0; q < ec.checkpoints.size(); ++q)
       if (std::abs(ec.checkpoints[q] - f.time) <= 1e-9 * def.end_time && def.at_checkpoint)
@@ -551,7 +662,18 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
     const double drift = scale > 0 ? worst / scale : 0.0;
     m.headline["energy drift"] = drift;
     const double drift_bound = dynamics.number("drift_bound");
-    if (!td.instability && (info.solver_steps < 0 || info.solver_steps >= kMinDriftSteps) &&
+    // The waiver for short runs takes a count mfv can check: the solver's stated steps are
+    // believed only when mfv's own critical step allows a run that short (a stable explicit
+    // run to end_time takes at least end_time / (kStepMargin × dt_crit) steps).
+    const long checkable = fewest_stable_steps(def.end_time, dt_critical_mfv);
+    const long steps_judged =
+        info.solver_steps < 0 ? -1 : std::max(info.solver_steps, checkable);
+    if (info.solver_steps >= 0 && info.solver_steps < kMinDriftSteps && checkable >= kMinDriftSteps)
+      td.dynamics += fmt::format("; the solver states {} steps, fewer than a stable explicit "
+                                 "run to t = {:.6g} takes by mfv's critical step (at least {}): "
+                                 "the drift is judged",
+                                 info.solver_steps, def.end_time, checkable);
+    if (!td.instability && (steps_judged < 0 || steps_judged >= kMinDriftSteps) &&
         drift > drift_bound)
       td.instability = TransientData::Instability{
           done, worst_time,

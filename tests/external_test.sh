@@ -90,35 +90,46 @@ expect_exit 2 "command must be an array of strings" env MFV_SOLVERS="$work/bad" 
 # 3. Broken solvers: a Python fake, broken as its argument says.
 mkdir -p "$work/fakes"
 cat > "$work/fakes/fake.py" <<'EOF'
-import json, os, sys, time
+import csv, json, os, sys, time
 mode, case = sys.argv[1], sys.argv[2]
 inp = json.load(open(os.path.join(case, "input.json")))
 n = inp["particles"]["count"]
+parts = list(csv.DictReader(open(os.path.join(case, "particles.csv"))))
+# Frames of a frozen body: the initial velocity mfv sent, held at every output time (wrong
+# physics, but consistent with mfv's masses and with the account below); or all zeros.
+v0 = [(float(p["vx0"]), float(p.get("vy0", 0))) for p in parts]
+k0 = sum(0.5 * float(p["mass"]) * (a * a + b * b) for p, (a, b) in zip(parts, v0))
 if mode == "sleep": time.sleep(60)
 if mode == "exit": sys.stderr.write("fake: diverged at step 7\n"); sys.exit(3)
 os.makedirs(os.path.join(case, "frames"))
 ix = open(os.path.join(case, "frames", "index.csv"), "w")
-ix.write("mfv-external-1\nk,time\n")
-for k, t in enumerate(inp["output_times"]):
+ix.write("mfv-external-1\nk,time,steps\n" if mode == "short" else "mfv-external-1\nk,time\n")
+times = inp["output_times"]
+for k, t in enumerate(times):
     if mode == "missing" and t == inp["checkpoints"][0]: continue
+    grow = 1e15 if mode == "blowup" and k == len(times) - 1 else 1
     with open(os.path.join(case, "frames", f"frame-{k}.csv"), "w") as f:
         f.write("id,ux,uy,vx,vy\n")
         for i in range(n - (1 if mode == "count" else 0)):
-            f.write(f"{i},0,0,{'nan' if mode == 'nan' and i == 17 else 0},0\n")
-    ix.write(f"{k},{t!r}\n")
-if mode in ("energy-nan", "drift"):  # an energy account: broken, or one that does not balance
-    end = inp["output_times"][-1]
+            vx, vy = (0, 0) if mode == "zeros" else (grow * v0[i][0], grow * v0[i][1])
+            f.write(f"{i},0,0,{'nan' if mode == 'nan' and i == 17 else repr(vx)},{vy!r}\n")
+    ix.write(f"{k},{t!r},{min(k + 1, 5)}\n" if mode == "short" else f"{k},{t!r}\n")
+if mode in ("energy-nan", "drift", "short", "account-zero", "account-wrong"):
+    # An energy account: broken, not balancing, starting from nothing, or not the frames'.
+    end = times[-1]
+    start = 0.0 if mode == "account-zero" else k0
+    mid = "nan" if mode == "energy-nan" else repr(3 * k0 if mode == "account-wrong" else k0)
     with open(os.path.join(case, "frames", "energy.csv"), "w") as f:
-        f.write("mfv-external-1\ntime,kinetic,internal_work\n0,1,0\n")
-        f.write(f"{end / 2!r},{'nan' if mode == 'energy-nan' else 1},1\n{end!r},1,2\n")
+        f.write(f"mfv-external-1\ntime,kinetic,internal_work\n0,{start!r},0\n")
+        f.write(f"{end / 2!r},{mid},{k0!r}\n{end!r},{k0!r},{2 * k0!r}\n")
 EOF
-for mode in sleep exit missing nan count energy-nan drift; do
-  printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = 2\n' \
-    "$mode" > "$work/fakes/fake-$mode.toml"
+for mode in sleep exit missing nan count energy-nan drift short blowup zeros account-zero account-wrong; do
+  printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = %s\n' \
+    "$mode" "$([ "$mode" = sleep ] && echo 2 || echo 30)" > "$work/fakes/fake-$mode.toml"
 done
 # Frames of a body at rest, on the plate too: its period cannot be measured.
-printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "zeros"]\nproblems = ["rod-pulse", "oscillating-plate"]\ntimeout = 20\n' \
-  > "$work/fakes/fake-zeros.toml"
+printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "frozen"]\nproblems = ["rod-pulse", "oscillating-plate"]\ntimeout = 20\n' \
+  > "$work/fakes/fake-frozen.toml"
 printf '[solver]\ncommand = ["mfv-no-such-solver"]\nproblems = ["rod-pulse"]\ninstall_hint = "apt install mfv-no-such-solver"\n' \
   > "$work/fakes/absent.toml"
 export MFV_SOLVERS="$work/fakes"
@@ -130,6 +141,19 @@ expect_exit 1 "74 particles in frame-0.csv, expected 75" "$mfv" run rod-pulse -m
 expect_exit 1 "frames/energy.csv line 4: field kinetic is nan" "$mfv" run rod-pulse -m external:fake-energy-nan -n 25
 expect_exit 1 "energy balance (frames/energy.csv) drifted by 2 of the run's energy" \
   "$mfv" run rod-pulse -m external:fake-drift -n 25
+# Issue 45: mfv judges the replayed frames by its own physics. A blow-up (velocities 1e15 ×
+# the initial ones at the last frame: K 1e30 × E_in) is unstable; frames of zeros for a body
+# set in motion, an account starting from nothing or one that is not the frames' fail naming
+# it; a solver that states fewer steps than mfv's critical step allows has its drift judged.
+expect_exit 1 "kinetic energy .* with mfv's masses, above 10000 × the energy put in" \
+  "$mfv" run rod-pulse -m external:fake-blowup -n 25
+expect_exit 1 "every one of the solver's [0-9]* frames is zero" "$mfv" run rod-pulse -m external:fake-zeros -n 25
+expect_exit 1 "frames/energy.csv: the kinetic energy at t = 0 is 0, but the initial velocity mfv sent" \
+  "$mfv" run rod-pulse -m external:fake-account-zero -n 25
+expect_exit 1 "frames/energy.csv disagrees with the frames: at t = " \
+  "$mfv" run rod-pulse -m external:fake-account-wrong -n 25
+expect_exit 1 "energy balance (frames/energy.csv) drifted by 2 of the run's energy" \
+  "$mfv" run rod-pulse -m external:fake-short -n 193
 expect_exit 1 "not installed here: mfv-no-such-solver: no such program on PATH (install: apt install mfv-no-such-solver)" \
   "$mfv" run rod-pulse -m external:absent -n 25
 # mfv killed while its solver runs: the solver's process group goes with it and the case
@@ -169,9 +193,9 @@ cat > "$work/measure.toml" <<'EOF'
 [suite]
 name = "measure"
 [[case]]
-id = "oscillating-plate/external-fake-zeros"
+id = "oscillating-plate/external-fake-frozen"
 problem = "oscillating-plate"
-method = "external:fake-zeros"
+method = "external:fake-frozen"
 nodes = [5]
 [[case]]
 id = "rod-pulse/external-fem-rod"
