@@ -443,6 +443,13 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     status = 1;
     message = fmt::format("{}: error: {}", who, e.what());
+  } catch (...) {
+    // mfv throws only std::exceptions: this came from a plugin's code (a factory, a kernel, a
+    // method), which would otherwise end mfv through std::terminate.
+    status = 1;
+    message = fmt::format("{}: error: something that is not a std::exception was thrown (by a "
+                          "plugin's code: mfv's own throws std::exception); fix the plugin",
+                          who);
   }
   if (!mpi) {
     if (!message.empty()) std::cerr << message << "\n";

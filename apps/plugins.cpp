@@ -2,10 +2,16 @@
 #include "apps/plugins.hpp"
 
 #include <dlfcn.h>
+#include <elf.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <fstream>
+#include <set>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -21,20 +27,129 @@ constexpr const char* kHowToBuild =
     "build the plugin against this mfv's installation (find_package(mfv CONFIG) with "
     "CMAKE_PREFIX_PATH set to its prefix; examples/plugin/ shows how)";
 
+/// A name a plugin may register: letters, digits and - _ . + (at most 64), beginning with a
+/// letter or digit. ',' '=' and spaces are the syntax of `-p key=value,...`; ':' is reserved
+/// for `external:<solver>`.
+bool valid_registered_name(const std::string& n) {
+  if (n.empty() || n.size() > 64 || !std::isalnum(static_cast<unsigned char>(n[0]))) return false;
+  return std::all_of(n.begin(), n.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
+           c == '+';
+  });
+}
+
+template <class First, class... Rest>
+First& first_of(First& f, Rest&...) {
+  return f;
+}
+
 /// `hook` with every exception turned into an InputError that names the plugin: what a
 /// plugin registers is the user's input, and a clash ("kernel 'gaussian' registered twice")
-/// is fixed in the plugin.
+/// is fixed in the plugin. Anything thrown that is not a std::exception is named too (it
+/// would otherwise end mfv through std::terminate), and every name the hook added to its
+/// registry (the hook's first argument) must be a valid one.
 template <class... Args>
 std::function<void(Args...)> naming(const std::string& plugin, std::function<void(Args...)> hook) {
   return [plugin, hook = std::move(hook)](Args... args) {
+    auto& registry = first_of(args...);
+    const auto before = registry.keys();
     try {
       hook(args...);
     } catch (const std::exception& e) {
       throw InputError(fmt::format("plugin '{}': {}; fix the plugin's registration (a name "
                                    "must be new: `mfv list` names the registered ones)",
                                    plugin, e.what()));
+    } catch (...) {
+      throw InputError(fmt::format("plugin '{}': its {} registration threw something that is "
+                                   "not a std::exception; fix the plugin (throw "
+                                   "std::runtime_error with a message)",
+                                   plugin, registry.kind()));
     }
+    const std::set<std::string> old(before.begin(), before.end());
+    for (const auto& k : registry.keys())
+      if (!old.count(k) && !valid_registered_name(k))
+        throw InputError(fmt::format(
+            "plugin '{}': the {} name '{}' is not a valid name; use letters, digits and - _ . + "
+            "(at most 64, beginning with a letter or digit: ',', '=' and spaces are the syntax "
+            "of -p key=value,..., ':' is reserved for external:<solver>)",
+            plugin, registry.kind(), k));
   };
+}
+
+/// The library being loaded, for refuse_exit_while_loading: process-wide because exit
+/// handlers take no argument; written only while Plugins' constructor loads a library.
+std::string& plugin_being_loaded() {
+  static std::string name;
+  return name;
+}
+
+/// A plugin that calls exit() while mfv loads it (in its static initializers or its entry
+/// point) ends mfv with rc 2 naming it, not with the plugin's own status: exit(0) would make a
+/// verify that ran nothing pass.
+void refuse_exit_while_loading() {
+  const std::string& p = plugin_being_loaded();
+  if (p.empty()) return;
+  std::fprintf(stderr,
+               "mfv: input error: plugin '%s' called exit() while it was being loaded (in its "
+               "static initializers or mfv_plugin_register); a plugin's registration must "
+               "return, and report a failure by throwing std::runtime_error\n",
+               p.c_str());
+  std::fflush(stderr);
+  std::_Exit(2);
+}
+
+/// Clears plugin_being_loaded however the load ends.
+struct LoadingPlugin {
+  explicit LoadingPlugin(const std::string& name) {
+    static const bool registered = [] {
+      // The name's storage first: statics are destroyed in the reverse order of their
+      // registration, so it outlives the handler's run at exit.
+      plugin_being_loaded();
+      std::atexit(refuse_exit_while_loading);
+      std::at_quick_exit(refuse_exit_while_loading);
+      return true;
+    }();
+    (void)registered;
+    plugin_being_loaded() = name;
+  }
+  ~LoadingPlugin() { plugin_being_loaded().clear(); }
+  LoadingPlugin(const LoadingPlugin&) = delete;
+  LoadingPlugin& operator=(const LoadingPlugin&) = delete;
+};
+
+/// An ELF library whose headers reach past the end of the file: dlopen would map the missing
+/// pages and the first touch of one kills mfv with SIGBUS. "" when the file is whole (or is
+/// no 64-bit ELF file: dlopen then says what it is).
+std::string truncated_elf(const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return {};
+  std::ifstream in(path, std::ios::binary);
+  Elf64_Ehdr eh{};
+  in.read(reinterpret_cast<char*>(&eh), sizeof eh);
+  if (in.gcount() < SELFMAG || std::memcmp(eh.e_ident, ELFMAG, SELFMAG) != 0) return {};
+  if (in.gcount() < static_cast<std::streamsize>(sizeof eh))
+    return fmt::format("{} bytes, shorter than an ELF header", size);
+  if (eh.e_ident[EI_CLASS] != ELFCLASS64) return {};
+  const auto need = [&](std::uint64_t end, const char* what) -> std::string {
+    if (end <= size) return {};
+    return fmt::format("its {} reach byte {}, the file has {}", what, end, size);
+  };
+  if (auto w = need(eh.e_phoff + std::uint64_t(eh.e_phnum) * eh.e_phentsize, "program headers");
+      !w.empty())
+    return w;
+  if (auto w = need(eh.e_shoff + std::uint64_t(eh.e_shnum) * eh.e_shentsize, "section headers");
+      !w.empty())
+    return w;
+  if (eh.e_phentsize != sizeof(Elf64_Phdr)) return "its program headers are not of this size";
+  in.seekg(static_cast<std::streamoff>(eh.e_phoff));
+  for (int i = 0; i < eh.e_phnum; ++i) {
+    Elf64_Phdr ph{};
+    if (!in.read(reinterpret_cast<char*>(&ph), sizeof ph)) return "its program headers are cut";
+    if (ph.p_type == PT_LOAD)
+      if (auto w = need(ph.p_offset + ph.p_filesz, "loadable segments"); !w.empty()) return w;
+  }
+  return {};
 }
 
 template <class Hook>
@@ -63,6 +178,11 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
                                                                          : "special file"));
     const std::string resolved = std::filesystem::canonical(path).string();
     if (std::find(loaded_.begin(), loaded_.end(), resolved) != loaded_.end()) continue;
+    if (const std::string cut = truncated_elf(resolved); !cut.empty())
+      throw InputError(fmt::format("plugin '{}' is a truncated or damaged library ({}); "
+                                   "rebuild it or copy it again; {}",
+                                   given, cut, kHowToBuild));
+    const LoadingPlugin loading(given);
 
     // RTLD_NOW: a symbol the plugin needs and this mfv lacks fails here, with its name, not
     // at the first call. RTLD_LOCAL: two plugins' own symbols stay apart.
@@ -91,6 +211,11 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
     } catch (const std::exception& e) {
       throw InputError(fmt::format("plugin '{}' failed in mfv_plugin_register: {}", given,
                                    e.what()));
+    } catch (...) {
+      throw InputError(fmt::format("plugin '{}' failed in mfv_plugin_register: it threw "
+                                   "something that is not a std::exception; fix the plugin "
+                                   "(throw std::runtime_error with a message)",
+                                   given));
     }
     const std::string name = path.filename().string();
     append(extensions_.kernels, mine.kernels, name);

@@ -5,6 +5,14 @@
 ///   MFV_BAD_UNDEFINED  needs a symbol no mfv defines
 ///   MFV_BAD_NO_ENTRY   a shared library without MFV_PLUGIN
 ///   MFV_BAD_THROWS     its entry point throws
+///   MFV_BAD_THROWS_INT its entry point throws an int (not a std::exception)
+///   MFV_BAD_HOOK_INT   its kernel hook throws an int
+///   MFV_BAD_FACTORY_INT a kernel whose factory throws an int when a method creates it
+///   MFV_BAD_EXITS      its entry point calls exit(0)
+///   MFV_BAD_NAME       registers a kernel named "a,b=c"
+///   MFV_BAD_EXTERNAL   registers a kernel named "external:pysph"
+#include <cstdlib>
+
 #include "apps/plugin.hpp"
 
 #if defined(MFV_BAD_STALE)
@@ -29,4 +37,32 @@ MFV_PLUGIN(plugin) { plugin.kernels.push_back(mfv::a_function_no_mfv_defines); }
 extern "C" int not_a_plugin() { return 1; }
 #elif defined(MFV_BAD_THROWS)
 MFV_PLUGIN(plugin) { throw std::runtime_error("cannot find my data file"); }
+#elif defined(MFV_BAD_THROWS_INT)
+MFV_PLUGIN(plugin) { throw 42; }
+#elif defined(MFV_BAD_HOOK_INT)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry&) { throw 7; });
+}
+#elif defined(MFV_BAD_FACTORY_INT)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry& r) {
+    r.add("throws-int", "a kernel whose factory throws an int", {},
+          [](const mfv::Params&) -> std::unique_ptr<mfv::Kernel> { throw 42; });
+  });
+}
+#elif defined(MFV_BAD_EXITS)
+MFV_PLUGIN(plugin) { std::exit(0); }
+#elif defined(MFV_BAD_NAME) || defined(MFV_BAD_EXTERNAL)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry& r) {
+#if defined(MFV_BAD_NAME)
+    const char* name = "a,b=c";
+#else
+    const char* name = "external:pysph";
+#endif
+    r.add(name, "a kernel with a name mfv cannot parse", {}, [](const mfv::Params&) {
+      return std::unique_ptr<mfv::Kernel>();
+    });
+  });
+}
 #endif

@@ -2,7 +2,8 @@
 """Runs mfv with plugins (apps/plugin.hpp): the example plugin's kernel and problem are listed,
 run, studied into a report and verified from a manifest's [suite] plugins; every plugin mfv
 must refuse exits 2 naming the file and the cause. Usage (tests/CMakeLists.txt):
-  plugin_test.py --mfv MFV --example LIB --bad STALE CLASH UNDEFINED NO_ENTRY THROWS --work DIR
+  plugin_test.py --mfv MFV --example LIB --bad STALE CLASH UNDEFINED NO_ENTRY THROWS THROWS_INT
+    HOOK_INT FACTORY_INT EXITS NAME EXTERNAL --work DIR
 """
 import argparse
 import json
@@ -41,12 +42,14 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--mfv", required=True)
     ap.add_argument("--example", required=True)
-    ap.add_argument("--bad", nargs=5, required=True,
-                    metavar=("STALE", "CLASH", "UNDEFINED", "NO_ENTRY", "THROWS"))
+    ap.add_argument("--bad", nargs=11, required=True,
+                    metavar=("STALE", "CLASH", "UNDEFINED", "NO_ENTRY", "THROWS", "THROWS_INT",
+                             "HOOK_INT", "FACTORY_INT", "EXITS", "NAME", "EXTERNAL"))
     ap.add_argument("--work", required=True)
     a = ap.parse_args()
     mfv, ex = a.mfv, a.example
-    stale, clash, undefined, no_entry, throws = a.bad
+    (stale, clash, undefined, no_entry, throws, throws_int, hook_int, factory_int, exits,
+     bad_name, external) = a.bad
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
 
@@ -126,6 +129,35 @@ def main():
            ["plugin 'libmfv_bad_plugin_clash.so'", "kernel 'gaussian' registered twice"])
     expect(mfv, "a plugin whose entry point throws", ["--plugin", throws, "list"], 2,
            ["failed in mfv_plugin_register", "cannot find my data file"])
+
+    # Issue 45: plugins that fail name themselves.
+    expect(mfv, "an entry point that throws an int", ["--plugin", throws_int, "list"], 2,
+           ["failed in mfv_plugin_register", "not a std::exception"])
+    expect(mfv, "a kernel hook that throws an int", ["--plugin", hook_int, "list"], 2,
+           ["libmfv_bad_plugin_hook_int.so", "kernel registration threw something that is not"])
+    expect(mfv, "a kernel factory that throws an int when efg creates it",
+           ["--plugin", factory_int, "run", "mms-poisson-1d", "-m", "efg", "-p", "kernel=throws-int",
+            "-n", "11"], 1, ["not a std::exception was thrown", "plugin"])
+    expect(mfv, "an entry point that calls exit(0)", ["--plugin", exits, "list"], 2,
+           ["called exit() while it was being loaded", "libmfv_bad_plugin_exits.so"])
+    suite_exits = os.path.join(a.work, "exits.toml")
+    with open(suite_exits, "w") as f:
+        f.write(f'[suite]\nname = "exits"\nplugins = ["{exits}"]\n[[case]]\nid = "sine-bar/fem"\n'
+                'problem = "sine-bar"\nmethod = "fem"\nnodes = [11, 21]\n')
+    expect(mfv, "verify of a manifest whose plugin calls exit(0) is not a pass",
+           ["verify", suite_exits, "--no-report", "--no-history"], 2,
+           ["called exit() while it was being loaded"])
+    expect(mfv, "a kernel named 'a,b=c'", ["--plugin", bad_name, "list"], 2,
+           ["the kernel name 'a,b=c' is not a valid name"])
+    expect(mfv, "a kernel named 'external:pysph'", ["--plugin", external, "list"], 2,
+           ["the kernel name 'external:pysph' is not a valid name", "reserved for external:"])
+    cut = os.path.join(a.work, "truncated.so")
+    with open(ex, "rb") as f:
+        whole = f.read()
+    with open(cut, "wb") as f:
+        f.write(whole[: len(whole) // 2])
+    expect(mfv, "a truncated library", ["--plugin", cut, "list"], 2,
+           ["is a truncated or damaged library", "truncated.so"])
 
     print(f"{len(FAILS)} failed" if FAILS else "all passed")
     return 1 if FAILS else 0
