@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -32,10 +34,19 @@ namespace mfv {
 namespace fs = std::filesystem;
 
 std::string file_tail(const fs::path& file, std::size_t bytes) {
+  // Only the tail is read (a solver that printed 1 GiB costs `bytes`), and only from a
+  // regular file: a FIFO or a device put in its place would block or never end.
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return ec ? "" : "(not a regular file)";
+  const auto size = fs::file_size(file, ec);
+  if (ec) return "";
   std::ifstream in(file, std::ios::binary);
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (s.size() > bytes) s = "…" + s.substr(s.size() - bytes);
-  return s;
+  const bool cut = size > bytes;
+  if (cut) in.seekg(static_cast<std::streamoff>(size - bytes));
+  std::string s(cut ? bytes : static_cast<std::size_t>(size), '\0');
+  in.read(s.data(), static_cast<std::streamsize>(s.size()));
+  s.resize(static_cast<std::size_t>(std::max<std::streamsize>(0, in.gcount())));
+  return cut ? "…" + s : s;
 }
 
 bool SolverSpec::supports(const std::string& problem) const {
@@ -328,16 +339,25 @@ std::optional<std::string> solver_missing(const SolverSpec& spec) {
       if (!d.empty() && ::access((fs::path(d) / prog).c_str(), X_OK) == 0) return std::nullopt;
     return fmt::format("{}: no such program on PATH", prog);
   }
-  const fs::path tmp = fs::temp_directory_path();
-  const fs::path out = tmp / fmt::format("mfv-check-{}-out", ::getpid());
-  const fs::path err = tmp / fmt::format("mfv-check-{}-err", ::getpid());
+  // The check's output goes into a private directory of its own (mkdtemp), never into a
+  // name under $TMPDIR a user's file may have.
+  std::error_code tmp_ec;
+  const fs::path tmp = fs::temp_directory_path(tmp_ec);
+  std::string dir_template = ((tmp_ec ? fs::path("/tmp") : tmp) / "mfv-check-XXXXXX").string();
+  if (!::mkdtemp(dir_template.data()))
+    throw ExternalSolverError(fmt::format(
+        "cannot create a private directory for the check of external solver '{}' under '{}' "
+        "({}); set TMPDIR to a writable directory",
+        spec.name, (tmp_ec ? fs::path("/tmp") : tmp).string(), std::strerror(errno)));
+  const fs::path private_dir = dir_template;
+  const fs::path out = private_dir / "out";
+  const fs::path err = private_dir / "err";
   int spawn_error = 0;
   double wall = 0;
-  const int rc = spawn_and_wait(probe, tmp, out, err, 60, spawn_error, wall);
+  const int rc = spawn_and_wait(probe, private_dir, out, err, 60, spawn_error, wall);
   const std::string why = tail_of(err, 300);
   std::error_code ignored;
-  fs::remove(out, ignored);
-  fs::remove(err, ignored);
+  fs::remove_all(private_dir, ignored);
   if (rc == -2)
     return fmt::format("{}: cannot start ({})", probe.front(), std::strerror(spawn_error));
   if (rc != 0)
@@ -382,6 +402,48 @@ SolverRun run_solver(const SolverSpec& spec, const fs::path& dir) {
 
 namespace {
 
+/// The longest line mfv reads from a solver's file: a frame row or an energy row is well
+/// under a kilobyte; a runaway solver's one endless line would otherwise be read whole.
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+
+/// Opens a file the solver wrote, refusing what is not a regular file (a FIFO would block
+/// mfv for ever, /dev/zero would never end) with ExternalSolverError naming it.
+std::ifstream open_solver_file(const fs::path& file, const std::string& name) {
+  std::error_code ec;
+  const auto st = fs::status(file, ec);
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+    throw ExternalSolverError(fmt::format("{} is not a regular file (a {}); the solver must "
+                                          "write its output as ordinary files",
+                                          name, fs::is_directory(st) ? "directory" : "special file"));
+  return std::ifstream(file, std::ios::binary);
+}
+
+/// std::getline with a cap: false at the end of the file; a line longer than kMaxLineBytes
+/// is an ExternalSolverError naming the file and the line.
+bool capped_getline(std::istream& in, std::string& line, const std::string& name, int ln) {
+  line.clear();
+  std::streambuf* sb = in.rdbuf();
+  if (!sb || !in) return false;
+  for (;;) {
+    const int ch = sb->sbumpc();
+    if (ch == std::char_traits<char>::eof()) {
+      if (line.empty()) {
+        in.setstate(std::ios::eofbit | std::ios::failbit);
+        return false;
+      }
+      in.setstate(std::ios::eofbit);
+      return true;
+    }
+    if (ch == '\n') return true;
+    if (line.size() >= kMaxLineBytes)
+      throw ExternalSolverError(fmt::format("{} line {} is longer than {} bytes; a solver's "
+                                            "rows are short: is it writing what the protocol "
+                                            "asks?",
+                                            name, ln, kMaxLineBytes));
+    line.push_back(static_cast<char>(ch));
+  }
+}
+
 std::vector<std::string> split_csv(const std::string& line) {
   std::vector<std::string> out;
   std::stringstream s(line);
@@ -409,7 +471,7 @@ std::map<std::string, int> column_index(const std::vector<std::string>& header) 
 /// is the protocol's version.
 void expect_protocol_line(std::istream& in, const std::string& name) {
   std::string line;
-  std::getline(in, line);
+  capped_getline(in, line, name, 1);
   trim_end(line);
   if (line != kExternalProtocol)
     throw ExternalSolverError(fmt::format("{}: first line '{}', expected the protocol '{}'",
@@ -437,7 +499,7 @@ std::string time_name(const ExternalCase& c, std::size_t k) {
 std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalCase& c) {
   const fs::path frames = dir / "frames";
   const fs::path index = frames / "index.csv";
-  std::ifstream in(index);
+  std::ifstream in = open_solver_file(index, "frames/index.csv");
   if (!in)
     throw ExternalSolverError(fmt::format("the solver wrote no frames/index.csv (expected the "
                                           "line '{}', then k,time for each of {} frames)",
@@ -448,9 +510,14 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
   // the report's particle-steps per second).
   std::map<std::size_t, std::pair<double, long>> written;
   bool with_steps = false;
-  for (int ln = 2; std::getline(in, line); ++ln) {
+  for (int ln = 2; capped_getline(in, line, "frames/index.csv", ln); ++ln) {
     trim_end(line);
     if (line.empty()) continue;
+    // A row per output time (and a header): more is not the protocol, and unbounded.
+    if (written.size() > c.output_times.size() + 16)
+      throw ExternalSolverError(fmt::format("frames/index.csv has more than {} rows for {} "
+                                            "output times",
+                                            written.size(), c.output_times.size()));
     if (line == "k,time" || line == "k,time,steps") {
       with_steps = line == "k,time,steps";
       continue;
@@ -487,8 +554,8 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
       throw ExternalSolverError(fmt::format("{}: the solver wrote it at t = {:.9g}, not at the "
                                             "requested time",
                                             what, w->second.first));
-    std::ifstream f(file);
-    std::getline(f, line);
+    std::ifstream f = open_solver_file(file, "frames/" + file.filename().string());
+    capped_getline(f, line, "frames/" + file.filename().string(), 1);
     const auto header = split_csv(line);
     std::map<std::string, int> col = column_index(header);
     for (const auto& h : need)
@@ -506,7 +573,7 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
       fr.stress = Eigen::MatrixXd::Constant(static_cast<int>(stress_cols.size()), n, std::nan(""));
     std::vector<char> seen(n, 0);
     int rows = 0;
-    for (int ln = 2; std::getline(f, line); ++ln) {
+    for (int ln = 2; capped_getline(f, line, "frames/" + file.filename().string(), ln); ++ln) {
       if (line.empty()) continue;
       ++rows;
       const auto v = split_csv(line);
@@ -563,13 +630,14 @@ std::array<double, 3> ExternalEnergy::at(double t) const {
 
 std::optional<ExternalEnergy> read_case_energy(const fs::path& dir, const ExternalCase& c) {
   const fs::path file = dir / "frames" / "energy.csv";
-  if (!fs::exists(file)) return std::nullopt;
-  std::ifstream in(file);
+  std::error_code exists_ec;
+  if (!fs::exists(fs::symlink_status(file, exists_ec))) return std::nullopt;
+  std::ifstream in = open_solver_file(file, "frames/energy.csv");
   if (!in || in.peek() == std::ifstream::traits_type::eof())
     throw ExternalSolverError("frames/energy.csv cannot be read (or is empty)");
   expect_protocol_line(in, "frames/energy.csv");
   std::string line;
-  std::getline(in, line);
+  capped_getline(in, line, "frames/energy.csv", 2);
   trim_end(line);
   const auto header = split_csv(line);
   std::map<std::string, int> col = column_index(header);
@@ -580,7 +648,7 @@ std::optional<ExternalEnergy> read_case_energy(const fs::path& dir, const Extern
                                             need, line.substr(0, 80)));
   const bool with_external = col.count("external_work") != 0;
   ExternalEnergy e;
-  for (int ln = 3; std::getline(in, line); ++ln) {
+  for (int ln = 3; capped_getline(in, line, "frames/energy.csv", ln); ++ln) {
     trim_end(line);
     if (line.empty()) continue;
     const auto v = split_csv(line);

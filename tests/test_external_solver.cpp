@@ -2,6 +2,7 @@
 // without a shell under a timeout, and the output's checks: a broken solver (timeout, exit
 // code, missing checkpoint, NaN field, wrong particle count) is a failure naming the cause,
 // and solvers/fem-rod (the protocol's one-page example) runs a rod pulse close to d'Alembert.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -304,6 +305,87 @@ TEST(ExternalSolver, TheEnergyAccountIsOptionalAndChecked) {
   EXPECT_DOUBLE_EQ(mid[1], 0.5);
   EXPECT_DOUBLE_EQ(mid[2], 0.25);
   EXPECT_DOUBLE_EQ(e->at(7.0)[0], 1.0);  // clamped to the rows' range
+}
+
+/// A case directory whose frames/ holds index.csv as `index` says (or a FIFO, or a link).
+std::string output_message(const std::function<void(const fs::path& frames)>& make) {
+  TempDir t;
+  const ExternalCase c = rod_case(13, {0.005, 0.01});
+  fs::create_directories(t.path / "frames");
+  make(t.path / "frames");
+  return message_of([&] { read_case_output(t.path, c); });
+}
+
+TEST(ExternalSolver, SolverOutputIsReadLikeAnyOtherInput) {
+  // Issue 45: a FIFO or a device in place of a solver file is refused before it is opened
+  // (a FIFO blocked mfv for ever, /dev/zero read for ever); a line has a cap.
+  EXPECT_NE(output_message([](const fs::path& f) {
+              ASSERT_EQ(::mkfifo((f / "index.csv").c_str(), 0600), 0);
+            }).find("frames/index.csv is not a regular file (a special file)"),
+            std::string::npos);
+  EXPECT_NE(output_message([](const fs::path& f) {
+              fs::create_symlink("/dev/zero", f / "index.csv");
+            }).find("not a regular file"),
+            std::string::npos);
+  EXPECT_NE(output_message([](const fs::path& f) {
+              write(f / "index.csv", "mfv-external-1\nk,time\n" + std::string(3 << 20, '7'));
+            }).find("frames/index.csv line 3 is longer than 1048576 bytes"),
+            std::string::npos);
+  EXPECT_NE(output_message([](const fs::path& f) {
+              std::string rows = "mfv-external-1\nk,time\n";
+              for (int k = 0; k < 100; ++k) rows += fmt::format("{},0.005\n", 1000 + k);
+              write(f / "index.csv", rows);
+            }).find("more than"),
+            std::string::npos);
+  {
+    TempDir t;
+    ExternalCase c;
+    c.output_times = {0.5, 1.0};
+    c.end_time = 1.0;
+    fs::create_directories(t.path / "frames");
+    ASSERT_EQ(::mkfifo((t.path / "frames" / "energy.csv").c_str(), 0600), 0);
+    EXPECT_NE(message_of([&] { read_case_energy(t.path, c); })
+                  .find("frames/energy.csv is not a regular file"),
+              std::string::npos);
+  }
+  // stdout/stderr: only the tail is read, and a FIFO is not waited on.
+  TempDir t;
+  std::string big(5 << 20, 'a');
+  big += "THE END";
+  write(t.path / "stdout.txt", big);
+  EXPECT_EQ(file_tail(t.path / "stdout.txt", 7), "…THE END");
+  ASSERT_EQ(::mkfifo((t.path / "stderr.txt").c_str(), 0600), 0);
+  EXPECT_EQ(file_tail(t.path / "stderr.txt"), "(not a regular file)");
+}
+
+TEST(ExternalSolver, TheChecksTemporaryFilesArePrivate) {
+  // The check's output went to $TMPDIR/mfv-check-<pid>-{out,err}, truncating and deleting a
+  // user's files of those names; it now has a private directory of its own.
+  TempDir t;
+  const fs::path mine_out = t.path / fmt::format("mfv-check-{}-out", ::getpid());
+  const fs::path mine_err = t.path / fmt::format("mfv-check-{}-err", ::getpid());
+  write(mine_out, "my notes\n");
+  write(mine_err, "my other notes\n");
+  write(t.path / "c.toml",
+        "[solver]\ncommand = [\"python3\"]\ncheck = [\"python3\", \"-c\", \"print(1)\"]\n"
+        "problems = [\"rod-pulse\"]\n");
+  const char* old = std::getenv("TMPDIR");
+  const std::string saved = old ? old : "";
+  ::setenv("TMPDIR", t.path.c_str(), 1);
+  const auto missing = solver_missing(read_solver_spec(t.path / "c.toml"));
+  if (old) ::setenv("TMPDIR", saved.c_str(), 1); else ::unsetenv("TMPDIR");
+  EXPECT_FALSE(missing.has_value()) << *missing;
+  std::ifstream a(mine_out), b(mine_err);
+  std::string la, lb;
+  std::getline(a, la);
+  std::getline(b, lb);
+  EXPECT_EQ(la, "my notes");
+  EXPECT_EQ(lb, "my other notes");
+  for (const auto& e : fs::directory_iterator(t.path))
+    EXPECT_EQ(e.path().filename().string().rfind("mfv-check-", 0) == 0 &&
+                  fs::is_directory(e.path()),
+              false)
+        << "left behind: " << e.path();
 }
 
 }  // namespace
