@@ -258,7 +258,31 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
           report_dir.has_filename() ? report_dir : report_dir.parent_path();
       file = target.parent_path() / (target.filename().string() + ".history.sqlite");
     }
-    if (!file.empty()) history.emplace(file);
+    if (!file.empty()) {
+      // A history or JUnit file inside the report directory would be replaced with it by the
+      // next run (and taken by --force): refused before any case.
+      if (staged) {
+        const auto inside = [&](const std::filesystem::path& f) {
+          std::error_code ec;
+          const auto dir = std::filesystem::weakly_canonical(report_dir, ec);
+          const auto p = std::filesystem::weakly_canonical(std::filesystem::absolute(f), ec);
+          const auto rel = p.lexically_relative(dir);
+          return !ec && !rel.empty() && *rel.begin() != "..";
+        };
+        if (inside(file))
+          throw InputError(fmt::format("--history '{}' is inside the report directory '{}', "
+                                       "which every run replaces; keep it beside the report "
+                                       "(the default is {}.history.sqlite)",
+                                       file.string(), report_dir.string(),
+                                       report_dir.string()));
+        if (!o.junit.empty() && inside(o.junit))
+          throw InputError(fmt::format("--junit '{}' is inside the report directory '{}', "
+                                       "which every run replaces; write it beside the report",
+                                       o.junit, report_dir.string()));
+      }
+      history.emplace(file);
+      history->check_writable();
+    }
   }
   // The run this report replaces, if it was a verification run: the report leads with what
   // changed since it (an unreadable or foreign one is simply not compared).
@@ -585,16 +609,27 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       history || previous ? nlohmann::json::parse(results_text) : nlohmann::json();
   std::vector<HistoryDrift> creeping;
   long run_id = 0;
+  // An append that still fails (checked writable before the first case, so a disk that
+  // filled or a writer that held the lock past the timeout) costs the history, never the
+  // run: the JUnit file and the report are written first and the failure is named after them.
+  std::string history_failure;
   if (history) {
-    run_id = history->append(results_doc);
-    creeping = history->drifts(run_id, kHistoryWindow,
-                               manifest.drift_tolerance > 0 ? manifest.drift_tolerance : 0.05);
-    out << fmt::format("history: run {} appended to {}{}\n", run_id, history->path().string(),
-                       creeping.empty() ? ""
-                                        : fmt::format("; {} quantity(ies) crept over the last {} "
-                                                      "runs:",
-                                                      creeping.size(), kHistoryWindow));
-    for (const auto& d : creeping) out << "  " << d.message << "\n";
+    try {
+      run_id = history->append(results_doc);
+      creeping = history->drifts(run_id, kHistoryWindow,
+                                 manifest.drift_tolerance > 0 ? manifest.drift_tolerance : 0.05);
+      out << fmt::format("history: run {} appended to {}{}\n", run_id,
+                         history->path().string(),
+                         creeping.empty() ? ""
+                                          : fmt::format("; {} quantity(ies) crept over the last "
+                                                        "{} runs:",
+                                                        creeping.size(), kHistoryWindow));
+      for (const auto& d : creeping) out << "  " << d.message << "\n";
+    } catch (const std::exception& e) {
+      history_failure = e.what();
+      run_id = 0;
+      history.reset();
+    }
   }
 
   if (!o.junit.empty()) {
@@ -842,6 +877,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     write_report(c, *staged, head, std::move(sections), o.vtk, o.vtk_finest_only, files);
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
+  if (!history_failure.empty())
+    throw std::runtime_error(fmt::format("the run finished{} but was not appended to the "
+                                         "history: {}",
+                                         staged ? " and its report is written" : "",
+                                         history_failure));
   return failed == 0 ? 0 : 1;
 }
 

@@ -309,6 +309,19 @@ void check_report_target(const fs::path& target_in, bool force) {
         "report directory '{}' is an mfv report (suite '{}', {}) but holds {} file(s) mfv did not "
         "write, e.g. '{}'; move them out, or pass --force to replace the report with them",
         target.string(), marker->suite, marker->time, foreign.size(), foreign.front()));
+  // --force replaces what a user added, but never a database (a run history kept in the
+  // report directory: every recorded run would go with it).
+  for (const auto& f : foreign) {
+    std::ifstream in(target / f, std::ios::binary);
+    char head[16] = {};
+    if (fs::is_regular_file(target / f, ec) && in.read(head, sizeof head) &&
+        std::string(head, sizeof head) == std::string("SQLite format 3\0", 16))
+      throw InputError(fmt::format(
+          "report directory '{}' holds '{}', a SQLite database (a run history?); --force never "
+          "deletes one: move it out of the report directory (the history's place is beside "
+          "it, '{}.history.sqlite')",
+          target.string(), f, target.string()));
+  }
 }
 
 void check_output_file(const fs::path& path, const std::string& what,

@@ -5,6 +5,7 @@
 /// and results.json carry.
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -296,6 +297,93 @@ TEST_F(Nightly, AHistoryFileThatIsNotOursIsRefusedAndKept) {
     }
     EXPECT_EQ(fs::file_size(f), size);
   }
+}
+
+TEST_F(Nightly, AHistoryIsCreatedOnlyWhereNoFileExistsAndIsCheckedWritableBeforeTheFirstCase) {
+  // Issue 45: a zero-length or 1-byte file, a foreign database whose user_version is negative
+  // or 0, were taken over (user_version rewritten to 1); each is refused and left as it was.
+  const fs::path empty = write("empty.sqlite", "");
+  const fs::path one = write("one.sqlite", "x");
+  for (const fs::path& f : {empty, one}) {
+    const auto size = fs::file_size(f);
+    EXPECT_THROW(HistoryStore{f}, InputError) << f;
+    EXPECT_EQ(fs::file_size(f), size);
+  }
+  auto user_version = [](const fs::path& f) {
+    sqlite3* db = nullptr;
+    sqlite3_open(f.c_str(), &db);
+    sqlite3_stmt* st = nullptr;
+    sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &st, nullptr);
+    sqlite3_step(st);
+    const int v = sqlite3_column_int(st, 0);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    return v;
+  };
+  for (const char* sql : {"CREATE TABLE t(x); DROP TABLE t; PRAGMA user_version = -3;",
+                          "CREATE TABLE t(x); DROP TABLE t;"}) {
+    const fs::path f = dir_ / (std::string("foreign-") + std::to_string(std::strlen(sql)) + ".db");
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(f.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+    const int before = user_version(f);
+    try {
+      HistoryStore h(f);
+      FAIL() << "took over " << sql;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("mfv did not write"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(user_version(f), before) << sql;
+  }
+  // Another writer holding the history past the busy timeout: refused by check_writable
+  // (verify calls it before the first case), not after the last.
+  const fs::path file = dir_ / "locked.sqlite";
+  { HistoryStore create(file); }
+  sqlite3* other = nullptr;
+  ASSERT_EQ(sqlite3_open(file.c_str(), &other), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(other, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr), SQLITE_OK);
+  HistoryStore h(file);  // reading needs no lock
+  try {
+    h.check_writable();
+    ADD_FAILURE() << "a locked history was taken as writable";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be written"), std::string::npos) << e.what();
+  }
+  sqlite3_exec(other, "ROLLBACK", nullptr, nullptr, nullptr);
+  sqlite3_close(other);
+  EXPECT_NO_THROW(h.check_writable());
+}
+
+TEST_F(Nightly, AHistoryOrJUnitInsideTheReportIsRefusedAndForceNeverDeletesAHistory) {
+  std::ostringstream out, progress;
+  VerifyOptions o = reported();
+  o.history = (dir_ / "report" / "h.sqlite").string();
+  try {
+    command_verify(catalogue_, o, out, progress);
+    ADD_FAILURE() << "a history inside the report was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is inside the report directory"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(progress.str().find("[1/"), std::string::npos) << "a case ran: " << progress.str();
+  o = reported();
+  o.junit = (dir_ / "report" / "junit.xml").string();
+  EXPECT_THROW(command_verify(catalogue_, o, out, progress), InputError);
+  // A report with a history someone put inside it: --force replaces the report's added
+  // files, but not a database.
+  o = reported();
+  command_verify(catalogue_, o, out, progress);
+  fs::copy_file(dir_ / "report.history.sqlite", dir_ / "report" / "kept.sqlite");
+  o.force = true;
+  try {
+    command_verify(catalogue_, o, out, progress);
+    ADD_FAILURE() << "--force replaced a report holding a history";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--force never deletes one"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "report" / "kept.sqlite"));
 }
 
 /// A results.json with one L2 error set to `l2` (the rest from a real run).

@@ -113,14 +113,25 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
     throw InputError(fmt::format("history '{}' exists and is not a regular file; give a file "
                                  "path for --history",
                                  file.string()));
-  if (st.type() == fs::file_type::not_found) {
+  const bool existed = st.type() != fs::file_type::not_found;
+  if (!existed) {
     const fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
     if (!fs::is_directory(dir, ec))
       throw InputError(fmt::format("history '{}': the directory '{}' does not exist; create it "
                                    "or give another --history",
                                    file.string(), dir.string()));
+  } else if (const auto size = fs::file_size(file, ec); !ec && size < 512) {
+    // mfv writes a history's schema as it creates the file (a page of 4 KiB at least): a
+    // shorter existing file is someone else's (an empty one made by `touch`, a stub), and a
+    // file is taken as a history only where none exists.
+    throw InputError(fmt::format("history '{}' exists but is not an mfv history ({} bytes; "
+                                 "mfv creates its history files itself); move it away or give "
+                                 "another --history",
+                                 file.string(), size));
   }
-  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
+  // Created only where no file exists (SQLITE_OPEN_CREATE only then).
+  if (sqlite3_open_v2(file.c_str(), &db_,
+                      SQLITE_OPEN_READWRITE | (existed ? 0 : SQLITE_OPEN_CREATE),
                       nullptr) != SQLITE_OK) {
     const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
@@ -135,6 +146,11 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
     Statement v(db_, "PRAGMA user_version", path_);
     v.step();
     const long version = v.integer(0);
+    if (version < 0 || (existed && version == 0))
+      throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
+                                   "(user_version {}); give another --history (mfv never "
+                                   "rewrites it)",
+                                   file.string(), version));
     if (version > kHistorySchema)
       throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; use a "
                                    "newer mfv or another --history",
@@ -168,6 +184,19 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
 }
 
 HistoryStore::~HistoryStore() { sqlite3_close(db_); }
+
+void HistoryStore::check_writable() {
+  // The write lock append will take, taken and released now: a history another writer holds
+  // past the busy timeout, or one on a read-only file or file system, fails before the first
+  // case instead of after the last.
+  if (sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr) != SQLITE_OK) {
+    const std::string why = sqlite3_errmsg(db_);
+    throw InputError(fmt::format("history '{}' cannot be written ({}); free it, give another "
+                                 "--history, or run with --no-history",
+                                 path_.string(), why));
+  }
+  sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+}
 
 long HistoryStore::append(const json& results) {
   const RunRecord rec = run_record(results);

@@ -12,8 +12,10 @@
 ///   vals(run → runs, quantity → quantities, value)    -- NULL: not measured
 ///   verdicts(run → runs, kind 'regression'|'ledger', subject, verdict)
 /// Writers take an immediate transaction and wait up to 10 s for another (two nightly
-/// jobs on one file serialize); a file that is not SQLite, or is damaged, is refused with
-/// the path and the fix and is never replaced.
+/// jobs on one file serialize); a file that is not SQLite, is damaged, is a SQLite database
+/// of someone else's (any user_version but mfv's, or none on an existing file) or is shorter
+/// than a history can be is refused with the path and the fix and is never rewritten: a
+/// history is created only where no file exists.
 #pragma once
 #include <filesystem>
 #include <optional>
@@ -63,6 +65,10 @@ class HistoryStore {
   HistoryStore(const HistoryStore&) = delete;
   HistoryStore& operator=(const HistoryStore&) = delete;
 
+  /// Takes and releases the write lock append takes (InputError naming the file when it is
+  /// locked past the busy timeout, read-only or on a read-only file system): verify calls it
+  /// before the first case, so a history never costs a finished run.
+  void check_writable();
   /// Appends a verify run (its results.json), in one transaction; returns the run's id.
   long append(const nlohmann::json& results);
 
