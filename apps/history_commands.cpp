@@ -38,12 +38,32 @@ int command_diff(const DiffCommandOptions& o, std::ostream& out) {
       throw InputError(fmt::format("mfv diff: '{}' is a run id; name the history it is in with "
                                    "--history FILE",
                                    what));
+    if (!std::filesystem::exists(o.history, ec))
+      throw InputError(fmt::format("mfv diff: no history at '{}'; `mfv verify` writes one "
+                                   "beside its report (<report>.history.sqlite)",
+                                   o.history));
     if (!history) history.emplace(o.history);
+    // A run id past what a long holds is no run of any history.
+    if (what.size() > 15)
+      throw InputError(fmt::format("mfv diff: run id '{}' is out of range; `mfv history "
+                                   "--history {}` lists the runs",
+                                   what, o.history));
     return history->record(std::stol(what));
   };
-  const RunDiff diff = diff_runs(record_of(o.before), record_of(o.after), d);
+  const RunRecord before = record_of(o.before), after = record_of(o.after);
+  if (!before.suite.empty() && !after.suite.empty() && before.suite != after.suite)
+    throw InputError(fmt::format("mfv diff: the runs are of different suites ('{}' and '{}'); "
+                                 "diff compares two runs of one suite",
+                                 before.suite, after.suite));
+  const RunDiff diff = diff_runs(before, after, d);
   out << diff_text(diff);
-  return diff.worse() > 0 ? 1 : 0;
+  // A case that ran before and not now is lost coverage, and a run that lost every case is
+  // no comparison at all: both fail as a number that got worse does.
+  if (!diff.removed.empty())
+    out << fmt::format("{} of the earlier run's {} case(s) are missing from the later run{}\n",
+                       diff.removed.size(), before.order.size(),
+                       diff.removed.size() == before.order.size() ? " (every one)" : "");
+  return diff.worse() > 0 || !diff.removed.empty() ? 1 : 0;
 }
 
 int command_history(const HistoryCommandOptions& o, std::ostream& out) {

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <thread>
@@ -384,6 +385,53 @@ TEST_F(Nightly, AHistoryOrJUnitInsideTheReportIsRefusedAndForceNeverDeletesAHist
         << e.what();
   }
   EXPECT_TRUE(fs::exists(dir_ / "report" / "kept.sqlite"));
+}
+
+TEST_F(Nightly, DiffRefusesRunsOfAnotherSuiteAFifoAndAHugeFileAndFailsWhenCasesVanish) {
+  // Issue 45: diff exited 0 for two reports of different suites and when every case
+  // vanished, and blocked on a FIFO.
+  VerifyOptions o = reported();
+  o.no_history = true;
+  std::ostringstream out, progress;
+  command_verify(catalogue_, o, out, progress);
+  nlohmann::json run = load_run_results(dir_ / "report");
+  nlohmann::json other = run;
+  other["suite"]["name"] = "another";
+  std::ofstream(dir_ / "other.json") << other.dump();
+  std::ostringstream text;
+  try {
+    command_diff({(dir_ / "report").string(), (dir_ / "other.json").string(), 0.05}, text);
+    ADD_FAILURE() << "diffed two suites";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("different suites"), std::string::npos) << e.what();
+  }
+  nlohmann::json none = run;
+  none["cases"] = nlohmann::json::array();
+  std::ofstream(dir_ / "none.json") << none.dump();
+  EXPECT_EQ(command_diff({(dir_ / "report").string(), (dir_ / "none.json").string(), 0.05}, text),
+            1);
+  EXPECT_NE(text.str().find("(every one)"), std::string::npos) << text.str();
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.json").c_str(), 0600), 0);
+  EXPECT_THROW(load_run_results(dir_ / "fifo.json"), InputError);
+  {
+    std::ofstream big(dir_ / "big.json");
+    big.seekp((std::streamoff{257} << 20));
+    big << ' ';
+  }
+  EXPECT_THROW(load_run_results(dir_ / "big.json"), InputError);
+  // A run id out of range, and a history that does not exist (diff reads, never creates).
+  o = reported();
+  command_verify(catalogue_, o, out, progress);
+  try {
+    command_diff({"99999999999999999999999", "1", 0.05, (dir_ / "report.history.sqlite").string()},
+                 text);
+    ADD_FAILURE() << "a run id out of range";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(command_diff({"1", "2", 0.05, (dir_ / "nowhere.sqlite").string()}, text),
+               InputError);
+  EXPECT_FALSE(fs::exists(dir_ / "nowhere.sqlite"));
 }
 
 /// A results.json with one L2 error set to `l2` (the rest from a real run).

@@ -109,6 +109,17 @@ int RunDiff::better() const {
 json load_run_results(const fs::path& path) {
   std::error_code ec;
   const fs::path file = fs::is_directory(path, ec) ? path / "results.json" : path;
+  // A regular file of a size a verify run writes (the default suite's is a few MB): a FIFO
+  // would block diff for ever, a 300 MB file took 1.3 GB to parse.
+  constexpr std::uintmax_t kMaxResultsBytes = std::uintmax_t{256} << 20;
+  if (const auto st = fs::status(file, ec); !ec && fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(fmt::format("mfv diff: '{}' is not a regular file; give a verify report "
+                                 "directory or its results.json",
+                                 file.string()));
+  if (const auto size = fs::file_size(file, ec); !ec && size > kMaxResultsBytes)
+    throw InputError(fmt::format("mfv diff: '{}' is {} MB, larger than any results.json mfv "
+                                 "writes ({} MB at most); give a verify run's results.json",
+                                 file.string(), size >> 20, kMaxResultsBytes >> 20));
   std::ifstream in(file);
   if (!in)
     throw InputError(fmt::format("mfv diff: cannot read '{}'; give a verify report directory or "
@@ -134,6 +145,8 @@ RunRecord run_record(const json& results) {
   try {
     RunRecord r = flatten(results);
     r.label = label_of(results);
+    if (results.contains("suite") && results.at("suite").is_object())
+      r.suite = results.at("suite").value("name", std::string());
     return r;
   } catch (const json::exception& e) {
     throw InputError(fmt::format("mfv diff: a results.json does not have the layout of "

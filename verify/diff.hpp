@@ -26,6 +26,7 @@ struct RunRecord {
     int sense = 0;  ///< +1 larger is better, −1 smaller is better, 0 unknown
   };
   std::string label;  ///< time and commit of the run (or what is known of them)
+  std::string suite;  ///< the manifest's suite name ("" when not recorded)
   std::map<std::string, std::map<std::string, Number>> numbers;  ///< case → quantity → value
   std::map<std::string, std::string> case_verdicts, ledger_verdicts;
   std::vector<std::string> order;  ///< case ids in the run's order

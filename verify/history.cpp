@@ -312,13 +312,15 @@ std::vector<std::string> HistoryStore::cases() const {
 RunRecord HistoryStore::record(long run) const {
   RunRecord r;
   {
-    Statement s(db_, "SELECT generated_utc, commit_id, dirty FROM runs WHERE id = ?", path_);
+    Statement s(db_, "SELECT generated_utc, commit_id, dirty, suite FROM runs WHERE id = ?",
+                path_);
     s.bind(1, run);
     if (!s.step())
       throw InputError(fmt::format("history {} has no run {}; `mfv history --runs` lists them",
                                    path_.string(), run));
     r.label = fmt::format("run {} of {}, {}, commit {}{}", run, path_.filename().string(),
                           s.text(0), s.text(1).substr(0, 12), s.integer(2) ? "+changes" : "");
+    r.suite = s.text(3);
   }
   Statement v(db_,
               "SELECT q.case_id, q.quantity, q.sense, v.value FROM vals v "
