@@ -2,12 +2,17 @@
 
 #include "analyses/analysis.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include <fmt/format.h>
@@ -343,12 +348,43 @@ namespace {
 
 /// The case directory of an external run: removed afterwards unless kept, also when a signal
 /// kills mfv (after the solver's process group: signal_cleanup.hpp runs the latest first).
+/// Case directories of runs that died without cleaning up (SIGKILL, a crash): named
+/// mfv-external-<pid>-XXXXXX, swept when their pid no longer runs, they are this user's, an
+/// hour has passed since they changed, and they were not kept (keep=1 writes .mfv-keep).
+void sweep_stale_case_directories(const std::filesystem::path& tmp) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto now = fs::file_time_type::clock::now();
+  for (fs::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::string prefix = "mfv-external-";
+    if (name.rfind(prefix, 0) != 0) continue;
+    const auto dash = name.find('-', prefix.size());
+    if (dash == std::string::npos || dash == prefix.size()) continue;
+    const std::string digits = name.substr(prefix.size(), dash - prefix.size());
+    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), ::isdigit)) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(digits));
+    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    struct stat st {};
+    if (::lstat(it->path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::geteuid())
+      continue;
+    std::error_code e2;
+    if (fs::exists(it->path() / ".mfv-keep", e2)) continue;
+    const auto changed = fs::last_write_time(it->path(), e2);
+    if (e2 || now - changed < std::chrono::hours(1)) continue;
+    fs::remove_all(it->path(), e2);
+  }
+}
+
 struct CaseDirectory {
   std::filesystem::path path;
   bool keep = false;
   std::unique_ptr<OnSignal> on_signal;
   CaseDirectory() {
-    std::string t = (std::filesystem::temp_directory_path() / "mfv-external-XXXXXX").string();
+    sweep_stale_case_directories(std::filesystem::temp_directory_path());
+    std::string t = (std::filesystem::temp_directory_path() /
+                     fmt::format("mfv-external-{}-XXXXXX", ::getpid()))
+                        .string();
     if (!::mkdtemp(t.data()))
       throw std::runtime_error(fmt::format("cannot create a case directory under '{}'",
                                            std::filesystem::temp_directory_path().string()));
@@ -525,6 +561,8 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
   CaseDirectory dir;
   dir.keep = ext.params().integer("keep") == 1;
   write_case_input(dir.path, ec);
+  // A kept directory is the user's: the sweep of stale ones leaves it.
+  if (dir.keep) std::ofstream(dir.path / ".mfv-keep") << "kept by keep=1\n";
   ProgressBar bar(def.label + " (external:" + spec.name + ")", 1);
   SolverRun run;
   try {

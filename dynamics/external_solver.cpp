@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -106,6 +107,47 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 /// files), waits up to `timeout` s; returns the exit status, or -1 on timeout (the group
 /// then got SIGTERM and, 5 s later, SIGKILL). errno-style failure to start: the error code
 /// in `spawn_error`.
+/// The processes whose parent is `parent` (from /proc/<pid>/stat's fourth field).
+std::set<pid_t> children_of(pid_t parent) {
+  std::set<pid_t> out;
+  std::error_code ec;
+  for (fs::directory_iterator it("/proc", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), ::isdigit)) continue;
+    std::ifstream stat(it->path() / "stat");
+    std::string line;
+    if (!std::getline(stat, line)) continue;
+    // "pid (comm) state ppid …": comm may hold spaces and parentheses, so from the last ')'.
+    const auto close = line.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream rest(line.substr(close + 1));
+    std::string state;
+    long ppid = 0;
+    if (rest >> state >> ppid && ppid == parent) out.insert(static_cast<pid_t>(std::stol(name)));
+  }
+  return out;
+}
+
+/// Kills and reaps every child of mfv that was not one before the solver started: with mfv a
+/// child subreaper (PR_SET_CHILD_SUBREAPER), a solver's descendant that left its process
+/// group (setsid) becomes mfv's child when its parent exits, and goes with the case. Rounds,
+/// because killing one hands its own children to mfv. Cases run one at a time, so a new
+/// child is this solver's.
+void reap_descendants(const std::set<pid_t>& before) {
+  for (int round = 0; round < 50; ++round) {
+    std::vector<pid_t> stray;
+    for (pid_t p : children_of(::getpid()))
+      if (!before.count(p)) stray.push_back(p);
+    if (stray.empty()) return;
+    for (pid_t p : stray) ::kill(p, SIGKILL);
+    for (pid_t p : stray) {
+      int status = 0;
+      while (::waitpid(p, &status, 0) < 0 && errno == EINTR) {
+      }
+    }
+  }
+}
+
 int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
                    const fs::path& out, const fs::path& err, double timeout, int& spawn_error,
                    double& wall, double* cpu = nullptr) {
@@ -130,6 +172,9 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // Orphaned descendants of the solver come to mfv, not to init (reap_descendants).
+  ::prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0);
+  const std::set<pid_t> children_before = children_of(::getpid());
   pid_t pid = 0;
   const auto t0 = std::chrono::steady_clock::now();
   spawn_error = posix_spawnp(&pid, args[0], &fa, &attr, args.data(), environ);
@@ -138,7 +183,10 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
   if (spawn_error != 0) return -2;
   // Killed itself (SIGINT, SIGTERM, SIGHUP), mfv takes the solver's group with it: the group
   // is the solver's own, so the signal does not reach it, and it would run on, orphaned.
-  const OnSignal kill_group([pid] { ::kill(-pid, SIGKILL); });
+  const OnSignal kill_group([pid, &children_before] {
+    ::kill(-pid, SIGKILL);
+    reap_descendants(children_before);
+  });
   int status = 0;
   bool timed_out = false;
   double killed_at = 0;
@@ -163,8 +211,9 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
     std::this_thread::sleep_for(std::chrono::milliseconds(t < 1 ? 5 : 50));
   }
   wall = seconds_since(t0);
-  // Whatever the solver left running in its group goes with it.
+  // Whatever the solver left running goes with it: its group, and what left the group.
   ::kill(-pid, SIGKILL);
+  reap_descendants(children_before);
   if (timed_out) return -1;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);

@@ -101,6 +101,12 @@ v0 = [(float(p["vx0"]), float(p.get("vy0", 0))) for p in parts]
 k0 = sum(0.5 * float(p["mass"]) * (a * a + b * b) for p, (a, b) in zip(parts, v0))
 if mode == "sleep": time.sleep(60)
 if mode == "exit": sys.stderr.write("fake: diverged at step 7\n"); sys.exit(3)
+if mode == "escape" and os.fork() == 0:
+    # A descendant that leaves the solver's process group and outlives it.
+    os.setsid()
+    time.sleep(3)
+    open(os.environ["FAKE_MARK"], "w").write("still running after mfv\n")
+    os._exit(0)
 os.makedirs(os.path.join(case, "frames"))
 ix = open(os.path.join(case, "frames", "index.csv"), "w")
 ix.write("mfv-external-1\nk,time,steps\n" if mode == "short" else "mfv-external-1\nk,time\n")
@@ -123,7 +129,7 @@ if mode in ("energy-nan", "drift", "short", "account-zero", "account-wrong"):
         f.write(f"mfv-external-1\ntime,kinetic,internal_work\n0,{start!r},0\n")
         f.write(f"{end / 2!r},{mid},{k0!r}\n{end!r},{k0!r},{2 * k0!r}\n")
 EOF
-for mode in sleep exit missing nan count energy-nan drift short blowup zeros account-zero account-wrong; do
+for mode in sleep exit missing nan count energy-nan drift short blowup zeros account-zero account-wrong escape; do
   printf '[solver]\ncommand = ["python3", "{solver_dir}/fake.py", "%s"]\nproblems = ["rod-pulse"]\ntimeout = %s\n' \
     "$mode" "$([ "$mode" = sleep ] && echo 2 || echo 30)" > "$work/fakes/fake-$mode.toml"
 done
@@ -168,6 +174,22 @@ wait $victim
 for _ in $(seq 40); do pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null || break; sleep 0.05; done
 pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null && fail "kill: the solver outlived mfv"
 [ -z "$(ls -A "$work/tmp")" ] || { ls -la "$work/tmp"; fail "kill: the case directory outlived mfv"; }
+ok
+# Issue 45: a solver's descendant that calls setsid() dies with the case (mfv is its
+# subreaper); a dead run's case directory is swept by the next run, a kept one is not.
+rm -f "$work/escaped"
+FAKE_MARK="$work/escaped" "$mfv" run rod-pulse -m external:fake-escape -n 25 > "$work/esc.out" 2>&1 ||
+  { cat "$work/esc.out"; fail "escape: exit $?"; }
+sleep 4
+[ ! -e "$work/escaped" ] || fail "escape: a descendant of the solver outlived mfv and wrote $(cat "$work/escaped")"
+ok
+mkdir -p "$work/tmp2/mfv-external-4194300-aaaaaa" "$work/tmp2/mfv-external-4194301-bbbbbb"
+touch "$work/tmp2/mfv-external-4194301-bbbbbb/.mfv-keep"
+touch -d '2 hours ago' "$work/tmp2/mfv-external-4194300-aaaaaa" "$work/tmp2/mfv-external-4194301-bbbbbb"
+TMPDIR="$work/tmp2" "$mfv" run rod-pulse -m external:fem-rod -n 25 > "$work/sweep.out" 2>&1 ||
+  { cat "$work/sweep.out"; fail "sweep: exit $?"; }
+[ ! -e "$work/tmp2/mfv-external-4194300-aaaaaa" ] || fail "sweep: a dead run's case directory was left"
+[ -e "$work/tmp2/mfv-external-4194301-bbbbbb" ] || fail "sweep: a kept case directory was removed"
 ok
 # The repository's LAMMPS adapter without LAMMPS (as in CI): not installed, with the way to get it.
 if ! command -v lmp > /dev/null; then
