@@ -613,6 +613,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // filled or a writer that held the lock past the timeout) costs the history, never the
   // run: the JUnit file and the report are written first and the failure is named after them.
   std::string history_failure;
+  std::vector<std::string> late_failures;  // outputs refused at write time, named at the end
   if (history) {
     try {
       run_id = history->append(results_doc);
@@ -668,8 +669,15 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                             : fmt::format("; cases {}", fmt::join(read.cases, ", "))));
       }
     }
-    write_file_atomic(o.junit, junit_xml(junit));
-    out << fmt::format("JUnit: {}\n", o.junit);
+    // Checked again now: a file someone created there while the cases ran is theirs, and is
+    // kept (the run is not lost: the failure is named after the report).
+    try {
+      check_output_file(o.junit, "JUnit file", is_mfv_junit);
+      write_file_atomic(o.junit, junit_xml(junit));
+      out << fmt::format("JUnit: {}\n", o.junit);
+    } catch (const InputError& e) {
+      late_failures.push_back(fmt::format("JUnit not written: {}", e.what()));
+    }
   }
 
   if (o.update_baseline && !manifest.baseline.empty()) {
@@ -679,8 +687,13 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       // A baseline beside a manifest in the working directory has no parent to create.
       if (const auto parent = manifest.baseline.parent_path(); !parent.empty())
         std::filesystem::create_directories(parent);
-      write_file_atomic(manifest.baseline, baseline_to_toml(updated));
-      out << fmt::format("baseline written: {}\n", manifest.baseline.string());
+      try {
+        check_output_file(manifest.baseline, "baseline", written_by_mfv_verify);
+        write_file_atomic(manifest.baseline, baseline_to_toml(updated));
+        out << fmt::format("baseline written: {}\n", manifest.baseline.string());
+      } catch (const InputError& e) {
+        late_failures.push_back(fmt::format("baseline not written: {}", e.what()));
+      }
     }
   }
 
@@ -878,10 +891,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
   if (!history_failure.empty())
-    throw std::runtime_error(fmt::format("the run finished{} but was not appended to the "
-                                         "history: {}",
+    late_failures.push_back(fmt::format("not appended to the history: {}", history_failure));
+  if (!late_failures.empty())
+    throw std::runtime_error(fmt::format("the run finished{} but {}",
                                          staged ? " and its report is written" : "",
-                                         history_failure));
+                                         fmt::join(late_failures, "; ")));
   return failed == 0 ? 0 : 1;
 }
 

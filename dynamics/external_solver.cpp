@@ -308,7 +308,17 @@ std::vector<SolverSpec> read_solver_specs(const fs::path& dir) {
   for (const auto& e : fs::directory_iterator(dir, ec))
     if (e.path().extension() == ".toml" && e.is_regular_file()) files.push_back(e.path());
   std::sort(files.begin(), files.end());
-  for (const auto& f : files) out.push_back(read_solver_spec(f));
+  for (const auto& f : files) {
+    try {
+      out.push_back(read_solver_spec(f));
+    } catch (const InputError& e) {
+      SolverSpec broken;
+      broken.name = f.stem().string();
+      broken.file = fs::absolute(f);
+      broken.broken = e.what();
+      out.push_back(std::move(broken));
+    }
+  }
   return out;
 }
 
@@ -751,6 +761,14 @@ void ExternalSolverMethod::retabulate(Discretization&, int) const {
 
 void register_external_solvers(MethodRegistry& methods, const std::vector<SolverSpec>& specs) {
   for (const SolverSpec& spec : specs) {
+    if (!spec.broken.empty()) {
+      methods.add("external:" + spec.name,
+                  fmt::format("external solver, NOT USABLE: {}", spec.broken), {},
+                  [spec](const Params&) -> std::unique_ptr<Method> {
+                    throw InputError(spec.broken);
+                  });
+      continue;
+    }
     ParamSchema schema;
     ParamSpec keep = ParamSpec::count("keep", 0, 0,
                                       "1: keep the case directory (input, frames, stdout, "

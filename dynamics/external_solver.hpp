@@ -70,6 +70,9 @@ struct SolverSpec {
   double timeout = 600;
   std::string install_hint;
   Params params;  ///< [solver.params]: numbers and strings with their defaults
+  /// Why the file cannot be used (read_solver_specs keeps a broken file as such instead of
+  /// failing every command); "" for a good one.
+  std::string broken;
   bool supports(const std::string& problem) const;
 };
 
@@ -77,7 +80,9 @@ struct SolverSpec {
 /// missing or mistyped key, an empty command, a non-positive timeout, an unknown key.
 SolverSpec read_solver_spec(const std::filesystem::path& file);
 
-/// The solver specs of `dir` (every *.toml, sorted by name); an absent dir gives none.
+/// The solver specs of `dir` (every *.toml, sorted by name); an absent dir gives none. A file
+/// read_solver_spec refuses is kept with its reason in `broken`: `external:<name>` then
+/// fails with it when used, and every other command works.
 std::vector<SolverSpec> read_solver_specs(const std::filesystem::path& dir);
 
 /// A prescribed velocity of one particle component until a time (the rod's impulse).

@@ -85,7 +85,13 @@ expect_exit 2 "external solver 'fem-rod' is defined twice" env MFV_SOLVERS="$wor
 echo '[solver]
 command = "python3 x.py"
 problems = ["rod-pulse"]' > "$work/bad/bad.toml"
-expect_exit 2 "command must be an array of strings" env MFV_SOLVERS="$work/bad" "$mfv" list
+# A broken solver file stops only its own solver (issue 45): listed as not usable, refused
+# when used, every other command unaffected.
+expect_exit 0 "external:bad .*NOT USABLE.*command must be an array of strings" \
+  env MFV_SOLVERS="$work/bad" "$mfv" list methods
+expect_exit 2 "command must be an array of strings" \
+  env MFV_SOLVERS="$work/bad" "$mfv" run rod-pulse -m external:bad -n 25
+expect_exit 0 "L2" env MFV_SOLVERS="$work/bad" "$mfv" run laplace-tanh -m fem -n 21
 
 # 3. Broken solvers: a Python fake, broken as its argument says.
 mkdir -p "$work/fakes"
