@@ -57,13 +57,14 @@ int command_diff(const DiffCommandOptions& o, std::ostream& out) {
                                  before.suite, after.suite));
   const RunDiff diff = diff_runs(before, after, d);
   out << diff_text(diff);
-  // A case that ran before and not now is lost coverage, and a run that lost every case is
-  // no comparison at all: both fail as a number that got worse does.
+  // A case that ran before and not now is named (a manifest that dropped it); a later run
+  // that lost every case compared nothing, and fails as a number that got worse does.
+  const bool all_gone = !before.order.empty() && diff.removed.size() == before.order.size();
   if (!diff.removed.empty())
     out << fmt::format("{} of the earlier run's {} case(s) are missing from the later run{}\n",
                        diff.removed.size(), before.order.size(),
-                       diff.removed.size() == before.order.size() ? " (every one)" : "");
-  return diff.worse() > 0 || !diff.removed.empty() ? 1 : 0;
+                       all_gone ? " (every one: nothing was compared)" : "");
+  return diff.worse() > 0 || all_gone ? 1 : 0;
 }
 
 int command_history(const HistoryCommandOptions& o, std::ostream& out) {
