@@ -104,7 +104,7 @@ std::string order_block(const Registries& plugins, const std::vector<StudyResult
     const OrderJudgement j = judge_order(plugins, s);
     if (j.norms.size() != 2) continue;
     auto obs = [](const NormOrder& n) {
-      return fmt::format("{} {:.2f} ({:.2f})", n.norm == "L2" ? "" : n.norm, n.observed,
+      return fmt::format("{}{:.2f} ({:.2f})", n.norm == "L2" ? "" : n.norm + " ", n.observed,
                          n.least_squares);
     };
     t.add_row({s.label,

@@ -346,8 +346,6 @@ void run_transient(DynamicsEngine& sim, double dt_target, double dt_critical,
 
 namespace {
 
-/// The case directory of an external run: removed afterwards unless kept, also when a signal
-/// kills mfv (after the solver's process group: signal_cleanup.hpp runs the latest first).
 /// Case directories of runs that died without cleaning up (SIGKILL, a crash): named
 /// mfv-external-<pid>-XXXXXX, swept when their pid no longer runs, they are this user's, an
 /// hour has passed since they changed, and they were not kept (keep=1 writes .mfv-keep).
@@ -376,6 +374,8 @@ void sweep_stale_case_directories(const std::filesystem::path& tmp) {
   }
 }
 
+/// The case directory of an external run: removed afterwards unless kept, also when a signal
+/// kills mfv (after the solver's process group: signal_cleanup.hpp runs the latest first).
 struct CaseDirectory {
   std::filesystem::path path;
   bool keep = false;
@@ -427,9 +427,11 @@ double frame_kinetic_energy(const Eigen::VectorXd& mass, const Eigen::MatrixXd& 
 ///     K_account(t) = c K_frame(t) at every frame within 5 % of the run's largest kinetic
 ///     energy (an account sampled between the half steps of central differences lags a
 ///     little; a wrong one is off by O(1)).
-/// 1 when nothing moves or there is no account.
+/// `kf` holds each frame's kinetic energy with mfv's masses. 1 when nothing moves or there is
+/// no account.
 double check_external_account(const ExternalEnergy* energy, double k0,
-                              const std::vector<ExternalFrame>& frames, const ExternalCase& ec) {
+                              const std::vector<ExternalFrame>& frames,
+                              const std::vector<double>& kf, const ExternalCase& ec) {
   const bool moved = k0 > 0 || std::any_of(ec.prescribed.begin(), ec.prescribed.end(),
                                            [](const ExternalPrescribed& p) {
                                              return p.value != 0;
@@ -445,13 +447,11 @@ double check_external_account(const ExternalEnergy* energy, double k0,
         "run the case it was given",
         frames.size(), k0, ec.prescribed.empty() ? "" : ", prescribed velocities"));
   if (!energy) return 1;
-  std::vector<double> kf;
   double kmax = k0;
   std::size_t at_max = frames.size();
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    kf.push_back(frame_kinetic_energy(ec.mass, frames[k].v));
-    if (!std::isfinite(kf.back())) return 1;  // the replay marks the run unstable
-    if (kf.back() > kmax) kmax = kf.back(), at_max = k;
+    if (!std::isfinite(kf[k])) return 1;  // the replay marks the run unstable
+    if (kf[k] > kmax) kmax = kf[k], at_max = k;
   }
   if (!(kmax > 0)) return 1;  // nothing moves: no factor to fix
   const double c = k0 > 0 ? energy->kinetic[0] / k0
@@ -607,7 +607,13 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
                         : 0.0;  // of the initial velocity mfv sent (input.json)
   // mfv's own critical step of these particles at t = 0, for the drift waiver's step count.
   const double dt_critical_mfv = state.critical_time_step();
-  const double unit = check_external_account(energy ? &*energy : nullptr, k0, out_frames, ec);
+  // Each frame's kinetic energy with mfv's masses, once: the account is checked against
+  // them and the replay judges each frame by them.
+  std::vector<double> frame_kinetic;
+  for (const ExternalFrame& f : out_frames)
+    frame_kinetic.push_back(frame_kinetic_energy(ec.mass, f.v));
+  const double unit =
+      check_external_account(energy ? &*energy : nullptr, k0, out_frames, frame_kinetic, ec);
   double energy_in = k0;  // E_in of kEnergyBound, in mfv's unit
   if (energy) {
     energy_in = std::max(energy_in, std::abs(energy->kinetic[0] + energy->internal_work[0] -
@@ -641,7 +647,7 @@ void run_external(const ExternalSolverMethod& ext, const TransientProblem& probl
     const ExternalFrame& f = out_frames[k];
     state.set_replayed_state(f.time, f.u, f.v);
     done = static_cast<long>(k) + 1;
-    if (const double kf = state.kinetic_energy(); !td.instability) {
+    if (const double kf = frame_kinetic[k]; !td.instability) {
       if (!std::isfinite(kf))
         td.instability = TransientData::Instability{
             done, f.time,

@@ -248,6 +248,20 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                        : std::filesystem::path(o.report);
   std::unique_ptr<StagedDirectory> staged;
   if (!o.no_report) staged = stage_report(report_dir, o.force, manifest.name);
+  // A history or JUnit file inside the report directory would be replaced with it by the
+  // next run (and taken by --force): refused before any case.
+  const auto inside_report = [&](const std::filesystem::path& f) {
+    if (!staged) return false;
+    std::error_code ec;
+    const auto dir = std::filesystem::weakly_canonical(report_dir, ec);
+    const auto p = std::filesystem::weakly_canonical(std::filesystem::absolute(f), ec);
+    const auto rel = p.lexically_relative(dir);
+    return !ec && !rel.empty() && *rel.begin() != "..";
+  };
+  if (!o.junit.empty() && inside_report(o.junit))
+    throw InputError(fmt::format("--junit '{}' is inside the report directory '{}', which every "
+                                 "run replaces; write it beside the report",
+                                 o.junit, report_dir.string()));
   // The history file is opened (created, migrated, checked) before the first case runs.
   std::optional<HistoryStore> history;
   if (!o.no_history) {
@@ -259,27 +273,11 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
       file = target.parent_path() / (target.filename().string() + ".history.sqlite");
     }
     if (!file.empty()) {
-      // A history or JUnit file inside the report directory would be replaced with it by the
-      // next run (and taken by --force): refused before any case.
-      if (staged) {
-        const auto inside = [&](const std::filesystem::path& f) {
-          std::error_code ec;
-          const auto dir = std::filesystem::weakly_canonical(report_dir, ec);
-          const auto p = std::filesystem::weakly_canonical(std::filesystem::absolute(f), ec);
-          const auto rel = p.lexically_relative(dir);
-          return !ec && !rel.empty() && *rel.begin() != "..";
-        };
-        if (inside(file))
-          throw InputError(fmt::format("--history '{}' is inside the report directory '{}', "
-                                       "which every run replaces; keep it beside the report "
-                                       "(the default is {}.history.sqlite)",
-                                       file.string(), report_dir.string(),
-                                       report_dir.string()));
-        if (!o.junit.empty() && inside(o.junit))
-          throw InputError(fmt::format("--junit '{}' is inside the report directory '{}', "
-                                       "which every run replaces; write it beside the report",
-                                       o.junit, report_dir.string()));
-      }
+      if (inside_report(file))
+        throw InputError(fmt::format("--history '{}' is inside the report directory '{}', "
+                                     "which every run replaces; keep it beside the report (the "
+                                     "default is {}.history.sqlite)",
+                                     file.string(), report_dir.string(), report_dir.string()));
       history.emplace(file);
       history->check_writable();
     }
@@ -612,7 +610,6 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
   // An append that still fails (checked writable before the first case, so a disk that
   // filled or a writer that held the lock past the timeout) costs the history, never the
   // run: the JUnit file and the report are written first and the failure is named after them.
-  std::string history_failure;
   std::vector<std::string> late_failures;  // outputs refused at write time, named at the end
   if (history) {
     try {
@@ -627,7 +624,7 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
                                                         creeping.size(), kHistoryWindow));
       for (const auto& d : creeping) out << "  " << d.message << "\n";
     } catch (const std::exception& e) {
-      history_failure = e.what();
+      late_failures.push_back(fmt::format("not appended to the history: {}", e.what()));
       run_id = 0;
       history.reset();
     }
@@ -890,8 +887,6 @@ int command_verify(const Catalogue& c, const VerifyOptions& o, std::ostream& out
     write_report(c, *staged, head, std::move(sections), o.vtk, o.vtk_finest_only, files);
     out << fmt::format("report: {}\n", (dir / "index.md").string());
   }
-  if (!history_failure.empty())
-    late_failures.push_back(fmt::format("not appended to the history: {}", history_failure));
   if (!late_failures.empty())
     throw std::runtime_error(fmt::format("the run finished{} but {}",
                                          staged ? " and its report is written" : "",

@@ -103,10 +103,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Spawns argv in `dir` (own process group, stdin from /dev/null, stdout/stderr to the
-/// files), waits up to `timeout` s; returns the exit status, or -1 on timeout (the group
-/// then got SIGTERM and, 5 s later, SIGKILL). errno-style failure to start: the error code
-/// in `spawn_error`.
 /// The processes whose parent is `parent` (from /proc/<pid>/stat's fourth field).
 std::set<pid_t> children_of(pid_t parent) {
   std::set<pid_t> out;
@@ -148,6 +144,10 @@ void reap_descendants(const std::set<pid_t>& before) {
   }
 }
 
+/// Spawns argv in `dir` (own process group, stdin from /dev/null, stdout/stderr to the
+/// files), waits up to `timeout` s; returns the exit status, or -1 on timeout (the group
+/// then got SIGTERM and, 5 s later, SIGKILL). errno-style failure to start: the error code
+/// in `spawn_error`.
 int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
                    const fs::path& out, const fs::path& err, double timeout, int& spawn_error,
                    double& wall, double* cpu = nullptr) {
@@ -401,13 +401,14 @@ std::optional<std::string> solver_missing(const SolverSpec& spec) {
   // The check's output goes into a private directory of its own (mkdtemp), never into a
   // name under $TMPDIR a user's file may have.
   std::error_code tmp_ec;
-  const fs::path tmp = fs::temp_directory_path(tmp_ec);
-  std::string dir_template = ((tmp_ec ? fs::path("/tmp") : tmp) / "mfv-check-XXXXXX").string();
+  fs::path tmp = fs::temp_directory_path(tmp_ec);
+  if (tmp_ec) tmp = "/tmp";
+  std::string dir_template = (tmp / "mfv-check-XXXXXX").string();
   if (!::mkdtemp(dir_template.data()))
     throw ExternalSolverError(fmt::format(
         "cannot create a private directory for the check of external solver '{}' under '{}' "
         "({}); set TMPDIR to a writable directory",
-        spec.name, (tmp_ec ? fs::path("/tmp") : tmp).string(), std::strerror(errno)));
+        spec.name, tmp.string(), std::strerror(errno)));
   const fs::path private_dir = dir_template;
   const fs::path out = private_dir / "out";
   const fs::path err = private_dir / "err";
@@ -613,8 +614,9 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
       throw ExternalSolverError(fmt::format("{}: the solver wrote it at t = {:.9g}, not at the "
                                             "requested time",
                                             what, w->second.first));
-    std::ifstream f = open_solver_file(file, "frames/" + file.filename().string());
-    capped_getline(f, line, "frames/" + file.filename().string(), 1);
+    const std::string shown = "frames/" + file.filename().string();
+    std::ifstream f = open_solver_file(file, shown);
+    capped_getline(f, line, shown, 1);
     const auto header = split_csv(line);
     std::map<std::string, int> col = column_index(header);
     for (const auto& h : need)
@@ -632,7 +634,7 @@ std::vector<ExternalFrame> read_case_output(const fs::path& dir, const ExternalC
       fr.stress = Eigen::MatrixXd::Constant(static_cast<int>(stress_cols.size()), n, std::nan(""));
     std::vector<char> seen(n, 0);
     int rows = 0;
-    for (int ln = 2; capped_getline(f, line, "frames/" + file.filename().string(), ln); ++ln) {
+    for (int ln = 2; capped_getline(f, line, shown, ln); ++ln) {
       if (line.empty()) continue;
       ++rows;
       const auto v = split_csv(line);

@@ -312,9 +312,11 @@ void check_report_target(const fs::path& target_in, bool force) {
   // --force replaces what a user added, but never a database (a run history kept in the
   // report directory: every recorded run would go with it).
   for (const auto& f : foreign) {
+    // A regular file only: opening a FIFO left in the report would block.
+    if (!fs::is_regular_file(fs::symlink_status(target / f, ec))) continue;
     std::ifstream in(target / f, std::ios::binary);
     char head[16] = {};
-    if (fs::is_regular_file(target / f, ec) && in.read(head, sizeof head) &&
+    if (in.read(head, sizeof head) &&
         std::string(head, sizeof head) == std::string("SQLite format 3\0", 16))
       throw InputError(fmt::format(
           "report directory '{}' holds '{}', a SQLite database (a run history?); --force never "

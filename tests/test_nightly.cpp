@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 
@@ -356,34 +357,49 @@ TEST_F(Nightly, AHistoryIsCreatedOnlyWhereNoFileExistsAndIsCheckedWritableBefore
   EXPECT_NO_THROW(h.check_writable());
 }
 
+/// The InputError `f` throws, or "(accepted)" when it throws none.
+std::string input_error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
 TEST_F(Nightly, AHistoryOrJUnitInsideTheReportIsRefusedAndForceNeverDeletesAHistory) {
   std::ostringstream out, progress;
   VerifyOptions o = reported();
   o.history = (dir_ / "report" / "h.sqlite").string();
-  try {
-    command_verify(catalogue_, o, out, progress);
-    ADD_FAILURE() << "a history inside the report was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("is inside the report directory"), std::string::npos)
-        << e.what();
-  }
+  const std::string history_inside =
+      input_error_of([&] { command_verify(catalogue_, o, out, progress); });
+  EXPECT_NE(history_inside.find("is inside the report directory"), std::string::npos)
+      << history_inside;
   EXPECT_EQ(progress.str().find("[1/"), std::string::npos) << "a case ran: " << progress.str();
   o = reported();
   o.junit = (dir_ / "report" / "junit.xml").string();
   EXPECT_THROW(command_verify(catalogue_, o, out, progress), InputError);
+  // A JUnit file inside an existing report, with a history and with --no-history (the check
+  // is not part of the history's).
+  o = reported();
+  command_verify(catalogue_, o, out, progress);
+  for (const bool no_history : {false, true}) {
+    o = reported();
+    o.junit = (dir_ / "report" / "junit.xml").string();
+    o.no_history = no_history;
+    const std::string junit_inside =
+        input_error_of([&] { command_verify(catalogue_, o, out, progress); });
+    EXPECT_NE(junit_inside.find("--junit"), std::string::npos) << junit_inside;
+    EXPECT_FALSE(fs::exists(dir_ / "report" / "junit.xml"));
+  }
   // A report with a history someone put inside it: --force replaces the report's added
   // files, but not a database.
   o = reported();
-  command_verify(catalogue_, o, out, progress);
   fs::copy_file(dir_ / "report.history.sqlite", dir_ / "report" / "kept.sqlite");
   o.force = true;
-  try {
-    command_verify(catalogue_, o, out, progress);
-    ADD_FAILURE() << "--force replaced a report holding a history";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("--force never deletes one"), std::string::npos)
-        << e.what();
-  }
+  const std::string forced =
+      input_error_of([&] { command_verify(catalogue_, o, out, progress); });
+  EXPECT_NE(forced.find("--force never deletes one"), std::string::npos) << forced;
   EXPECT_TRUE(fs::exists(dir_ / "report" / "kept.sqlite"));
 }
 
