@@ -419,7 +419,7 @@ double frame_kinetic_energy(const Eigen::VectorXd& mass, const Eigen::MatrixXd& 
 /// The solver's output against what mfv sent and against itself (ExternalSolverError naming
 /// the first disagreement), returning the factor of the solver's energy unit to mfv's:
 ///   - a run set in motion (an initial velocity or a prescribed motion) does not answer with
-///     frames that are all zero;
+///     frames that are all zero, and no frame is all zero after one that was not;
 ///   - the account's kinetic energy is proportional to the frames' with mfv's masses: a
 ///     solver may keep its energies per unit thickness or area (solvers/fem-rod does), so
 ///     the factor c is fixed where it is best known — at t = 0 from the initial velocity mfv
@@ -446,6 +446,17 @@ double check_external_account(const ExternalEnergy* energy, double k0,
         "mfv set the body in motion (initial kinetic energy {:.6g}{}): the solver did not "
         "run the case it was given",
         frames.size(), k0, ec.prescribed.empty() ? "" : ", prescribed velocities"));
+  // A body that moved does not come back exactly to its reference configuration at rest
+  // (every displacement and velocity 0.0): such a frame after a moving one is output that
+  // was cut or zeroed, and the errors measured before it would pass the run.
+  const auto zero = [](const ExternalFrame& f) { return f.u.isZero(0) && f.v.isZero(0); };
+  for (std::size_t k = 1; k < frames.size(); ++k)
+    if (zero(frames[k]) && !zero(frames[k - 1]))
+      throw ExternalSolverError(fmt::format(
+          "the solver's frame at t = {:.6g} is zero (every displacement and velocity) after "
+          "the frame at t = {:.6g} was not: a body that moved does not return exactly to "
+          "rest in its reference configuration; the solver's output was cut or zeroed",
+          frames[k].time, frames[k - 1].time));
   if (!energy) return 1;
   double kmax = k0;
   std::size_t at_max = frames.size();

@@ -52,14 +52,25 @@ int command_diff(const DiffCommandOptions& o, std::ostream& out) {
   };
   const RunRecord before = record_of(o.before), after = record_of(o.after);
   if (!before.suite.empty() && !after.suite.empty() && before.suite != after.suite)
-    throw InputError(fmt::format("mfv diff: the runs are of different suites ('{}' and '{}'); "
-                                 "diff compares two runs of one suite",
-                                 before.suite, after.suite));
+    throw InputError(fmt::format("mfv diff: the runs are of different suites ('{}' is of "
+                                 "'{}', '{}' of '{}'); diff compares two runs of one suite",
+                                 o.before, before.suite, o.after, after.suite));
   const RunDiff diff = diff_runs(before, after, d);
   out << diff_text(diff);
   // A case that ran before and not now is named (a manifest that dropped it); a later run
   // that lost every case compared nothing, and fails as a number that got worse does.
   const bool all_gone = !before.order.empty() && diff.removed.size() == before.order.size();
+  // An earlier run without a case or a ledger row the later one has (a results.json whose
+  // cases were all removed) gives nothing to compare against: that is no pass either.
+  const bool common_row = std::any_of(
+      before.ledger_verdicts.begin(), before.ledger_verdicts.end(),
+      [&](const auto& r) { return after.ledger_verdicts.count(r.first) > 0; });
+  if (before.order.empty() && !common_row) {
+    out << fmt::format("the earlier run '{}' has no case and no ledger row of the later run: "
+                       "nothing was compared\n",
+                       o.before);
+    return 1;
+  }
   if (!diff.removed.empty())
     out << fmt::format("{} of the earlier run's {} case(s) are missing from the later run{}\n",
                        diff.removed.size(), before.order.size(),

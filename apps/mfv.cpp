@@ -377,6 +377,7 @@ int main(int argc, char** argv) {
     if (*cmd_verify)
       for (const auto& p : mfv::load_manifest(ver.manifest).plugins) plugin_files.push_back(p);
     const mfv::Plugins plugins(plugin_files);
+    const mfv::CommandExitGuard exit_guard(plugins);
     // External solvers (issue 30): `external:<name>` for each solvers/<name>.toml found
     // (dynamics/external_solver.hpp: $MFV_SOLVERS, the installed share/mfv/solvers or the
     // source tree's).

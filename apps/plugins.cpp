@@ -3,9 +3,13 @@
 
 #include <dlfcn.h>
 #include <elf.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -98,6 +102,24 @@ void refuse_exit_while_loading() {
   std::_Exit(2);
 }
 
+/// The plugins loaded while a command runs, for refuse_exit_during_command ("" outside one):
+/// process-wide for the same reason as plugin_being_loaded.
+std::string& plugins_of_running_command() {
+  static std::string names;
+  return names;
+}
+
+void refuse_exit_during_command() {
+  const std::string& p = plugins_of_running_command();
+  if (p.empty()) return;
+  std::fprintf(stderr,
+               "mfv: error: something called exit() while the command ran; mfv's commands "
+               "return, so it was a plugin's code (loaded: %s); the command did not finish\n",
+               p.c_str());
+  std::fflush(stderr);
+  std::_Exit(1);
+}
+
 /// Clears plugin_being_loaded however the load ends.
 struct LoadingPlugin {
   explicit LoadingPlugin(const std::string& name) {
@@ -152,12 +174,87 @@ std::string truncated_elf(const std::filesystem::path& path) {
   return {};
 }
 
+/// A plugin that ends the process while it loads (_exit, abort, a signal in its static
+/// initializers, mfv_plugin_abi or mfv_plugin_register) is found in a child first: mfv cannot
+/// outlive an _exit or a crash in the plugin's own code, and exit status 0 would make a verify
+/// that ran nothing pass. "" when the child's load returned (or threw: the load in mfv then
+/// names the exception); otherwise how the child ended. The plugin's static initializers
+/// therefore run twice (docs/extending.md says so).
+std::string load_ends_the_process(const std::string& resolved) {
+  int fd[2];
+  if (pipe2(fd, O_CLOEXEC) != 0) return {};  // no probe possible: mfv loads it as before
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    close(fd[0]);
+    close(fd[1]);
+    return {};
+  }
+  if (pid == 0) {
+    close(fd[0]);
+    // What the plugin prints while loading is shown once, by the load in mfv.
+    if (const int null = open("/dev/null", O_WRONLY); null >= 0) {
+      dup2(null, 1);
+      dup2(null, 2);
+    }
+    if (void* h = dlopen(resolved.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+      using AbiFn = const char* (*)();
+      using RegisterFn = void (*)(Extensions&);
+      auto abi = reinterpret_cast<AbiFn>(dlsym(h, "mfv_plugin_abi"));
+      auto enter = reinterpret_cast<RegisterFn>(dlsym(h, "mfv_plugin_register"));
+      try {
+        const char* theirs = abi ? abi() : nullptr;
+        if (enter && theirs && std::strcmp(theirs, MFV_PLUGIN_ABI) == 0) {
+          Extensions mine;
+          enter(mine);
+        }
+      } catch (...) {
+      }
+    }
+    const char returned = 1;
+    [[maybe_unused]] const auto w = write(fd[1], &returned, 1);
+    _exit(0);
+  }
+  close(fd[1]);
+  char c = 0;
+  ssize_t n;
+  do n = read(fd[0], &c, 1);
+  while (n < 0 && errno == EINTR);
+  close(fd[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (n == 1) return {};
+  if (WIFSIGNALED(status))
+    return fmt::format("it was killed by signal {} ({})", WTERMSIG(status),
+                       strsignal(WTERMSIG(status)));
+  if (WIFEXITED(status)) return fmt::format("it ended the process with exit status {}",
+                                            WEXITSTATUS(status));
+  return "it ended the process";
+}
+
 template <class Hook>
 void append(std::vector<Hook>& to, const std::vector<Hook>& from, const std::string& plugin) {
   for (const auto& h : from) to.push_back(naming(plugin, h));
 }
 
 }  // namespace
+
+CommandExitGuard::CommandExitGuard(const Plugins& plugins) {
+  if (plugins.loaded().empty()) return;
+  static const bool registered = [] {
+    plugins_of_running_command();
+    std::atexit(refuse_exit_during_command);
+    std::at_quick_exit(refuse_exit_during_command);
+    return true;
+  }();
+  (void)registered;
+  std::vector<std::string> names;
+  for (const auto& l : plugins.loaded()) names.push_back(std::filesystem::path(l).filename());
+  plugins_of_running_command() = fmt::format("{}", fmt::join(names, ", "));
+}
+
+CommandExitGuard::~CommandExitGuard() { plugins_of_running_command().clear(); }
 
 Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
   for (const auto& path : paths) {
@@ -182,6 +279,12 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
       throw InputError(fmt::format("plugin '{}' is a truncated or damaged library ({}); "
                                    "rebuild it or copy it again; {}",
                                    given, cut, kHowToBuild));
+    if (const std::string ended = load_ends_the_process(resolved); !ended.empty())
+      throw InputError(fmt::format("plugin '{}' cannot be loaded: {} while it was being loaded "
+                                   "(in its static initializers, mfv_plugin_abi or "
+                                   "mfv_plugin_register); a plugin's registration must return, "
+                                   "and report a failure by throwing std::runtime_error",
+                                   given, ended));
     const LoadingPlugin loading(given);
 
     // RTLD_NOW: a symbol the plugin needs and this mfv lacks fails here, with its name, not
@@ -201,7 +304,15 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
       throw InputError(fmt::format("'{}' is not an mfv plugin: it defines no {}; a plugin "
                                    "defines its entry point with MFV_PLUGIN (apps/plugin.hpp)",
                                    given, !abi ? "mfv_plugin_abi" : "mfv_plugin_register"));
-    const char* theirs = abi();
+    const char* theirs = nullptr;
+    try {
+      theirs = abi();
+    } catch (...) {
+      throw InputError(fmt::format("plugin '{}' failed in mfv_plugin_abi (it threw); a "
+                                   "plugin defines its entry points with MFV_PLUGIN "
+                                   "(apps/plugin.hpp); {}",
+                                   given, kHowToBuild));
+    }
     if (!theirs || std::strcmp(theirs, MFV_PLUGIN_ABI) != 0)
       throw InputError(fmt::format("plugin '{}' was built for {}, this program is {}; {}", given,
                                    theirs ? theirs : "(null)", MFV_PLUGIN_ABI, kHowToBuild));

@@ -31,4 +31,16 @@ class Plugins {
   std::vector<std::string> loaded_;
 };
 
+/// While alive, and when plugins are loaded, an exit() called during the command ends mfv
+/// with exit 1 naming the plugins, not with the caller's status: mfv's commands return, so
+/// the call came from a plugin's code (a factory, a kernel, a method), and exit(0) in a case
+/// would make a verify that ran nothing pass. (_exit cannot be caught in-process.)
+class CommandExitGuard {
+ public:
+  explicit CommandExitGuard(const Plugins& plugins);
+  ~CommandExitGuard();
+  CommandExitGuard(const CommandExitGuard&) = delete;
+  CommandExitGuard& operator=(const CommandExitGuard&) = delete;
+};
+
 }  // namespace mfv

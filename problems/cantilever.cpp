@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -48,6 +49,16 @@ constexpr const char* kConvergesCriterion =
 
 Verdict not_run(const std::string& what) { return {"not run", "no study of " + what}; }
 
+/// A verdict with the numbers it rests on: each study's L2 errors per resolution and, when
+/// the claim is of a rate, its pairwise rates (the ledger's uncertainty, issue 44).
+Verdict numbered(Verdict v, const std::vector<const StudySummary*>& studies, bool rates) {
+  for (const auto* s : studies) {
+    v.numbers.push_back(finding::l2_per_resolution(*s));
+    if (rates) v.numbers.push_back(finding::l2_rate_per_pair(*s));
+  }
+  return v;
+}
+
 /// 001 §9.1's statements about Figs. 6 and 7, each with the criterion we hold our run to.
 std::vector<Finding> cantilever_findings() {
   std::vector<Finding> f;
@@ -59,25 +70,29 @@ std::vector<Finding> cantilever_findings() {
                  if (ci.empty()) return not_run("efg-ci");
                  std::string worse;
                  bool best = true;
+                 std::vector<const StudySummary*> used = {ci[0]};
                  for (const char* m : {"sph", "rlm", "kbm-si", "kbm-ni", "efg-ni"})
                    for (const auto* s : of(all, m))
                      if (s->finest_nodes == ci[0]->finest_nodes) {
+                       used.push_back(s);
                        const bool beats = s->l2_rel_finest < ci[0]->l2_rel_finest ||
                                           s->energy_rel_finest < ci[0]->energy_rel_finest;
                        best = best && !beats;
                        worse += fmt::format("; {} {:.1e}/{:.1e}", s->label, s->l2_rel_finest,
                                             s->energy_rel_finest);
                      }
-                 return {best ? "reproduced" : "not reproduced",
-                         fmt::format("efg-ci L2/energy {:.1e}/{:.1e}{}", ci[0]->l2_rel_finest,
-                                     ci[0]->energy_rel_finest, worse)};
+                 return numbered({best ? "reproduced" : "not reproduced",
+                                  fmt::format("efg-ci L2/energy {:.1e}/{:.1e}{}", ci[0]->l2_rel_finest,
+                                              ci[0]->energy_rel_finest, worse)},
+                                 used, false);
                }, "efg-ci-best"});
   f.push_back({"001 §9.1", "KBM with stress points: displacement rate close to 2",
                "kbm-si L2 rate in [1.7, 2.3]", [](const std::vector<StudySummary>& all) -> Verdict {
                  const auto k = of(all, "kbm-si");
                  if (k.empty()) return not_run("kbm-si");
                  const bool ok = k[0]->l2_rate >= 1.7 && k[0]->l2_rate <= 2.3;
-                 return {ok ? "reproduced" : "not reproduced", describe(*k[0])};
+                 return numbered({ok ? "reproduced" : "not reproduced", describe(*k[0])}, {k[0]},
+                                 true);
                }, "kbm-si-rate"});
   f.push_back({"001 §9.1",
                "EFG ni and KBM si converge a little slower than EFG ci, with larger errors",
@@ -88,9 +103,11 @@ std::vector<Finding> cantilever_findings() {
                  if (ci.empty()) return not_run("efg-ci");
                  int ok = 0, n = 0;
                  std::string text;
+                 std::vector<const StudySummary*> used = {ci[0]};
                  for (const char* m : {"efg-ni", "kbm-si"})
                    for (const auto* s : of(all, m)) {
                      ++n;
+                     used.push_back(s);
                      const bool good = s->l2_trend.converges() &&
                                        s->l2_rate >= ci[0]->l2_rate - 0.5 &&
                                        s->l2_rel_finest > ci[0]->l2_rel_finest;
@@ -100,8 +117,9 @@ std::vector<Finding> cantilever_findings() {
                                          good ? "as stated" : "not");
                    }
                  if (n == 0) return not_run("efg-ni or kbm-si");
-                 return {ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced",
-                         fmt::format("efg-ci rate {:.2f}; {}", ci[0]->l2_rate, text)};
+                 return numbered({ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced",
+                                  fmt::format("efg-ci rate {:.2f}; {}", ci[0]->l2_rate, text)},
+                                 used, true);
                }, "efg-ni-kbm-si-slower"});
   f.push_back({"001 §9.1", "RLM and KBM with nodal integration yield poor results",
                "rlm and kbm-ni: each with a finest L2 error larger than that of every method "
@@ -115,9 +133,11 @@ std::vector<Finding> cantilever_findings() {
                  if (good.empty()) return not_run("efg-ci, efg-ni or kbm-si");
                  int ok = 0, n = 0;
                  std::string text;
+                 std::vector<const StudySummary*> used = good;
                  for (const char* m : {"rlm", "kbm-ni"})
                    for (const auto* s : of(all, m)) {
                      ++n;
+                     used.push_back(s);
                      bool poor = true;
                      int compared = 0;
                      std::string beside;
@@ -137,7 +157,8 @@ std::vector<Finding> cantilever_findings() {
                          beside.empty() ? "no good method at its resolution" : beside);
                    }
                  if (n == 0) return not_run("rlm or kbm-ni");
-                 return {ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced", text};
+                 return numbered({ok == n ? "reproduced" : ok > 0 ? "partly" : "not reproduced", text},
+                                 used, false);
                }, "rlm-kbm-ni-poor"});
   f.push_back({"001 §9.1", "SPH does not converge at all (support shrinking with the spacing)",
                "sph: the L2 errors do not converge (not: the finest the smallest with the last "
@@ -146,7 +167,8 @@ std::vector<Finding> cantilever_findings() {
                  const auto s = of(all, "sph");
                  if (s.empty()) return not_run("sph");
                  const bool ok = !s[0]->l2_trend.converges();
-                 return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
+                 return numbered({ok ? "reproduced" : "not reproduced", describe(*s[0])}, {s[0]},
+                                 true);
                }, "sph-no-convergence"});
   f.push_back({"001 §9.1, Fig. 7", "SPH converges when the support is held constant",
                std::string("sph with a fixed radius: ") + kConvergesCriterion,
@@ -154,7 +176,8 @@ std::vector<Finding> cantilever_findings() {
                  const auto s = of(all, "sph", true);
                  if (s.empty()) return not_run("sph with radius=");
                  const bool ok = s[0]->l2_trend.converges();
-                 return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
+                 return numbered({ok ? "reproduced" : "not reproduced", describe(*s[0])}, {s[0]},
+                                 true);
                }, "sph-constant-support"});
   f.push_back({"001 §9.1, Fig. 7", "EFG with cell integration converges with a constant support",
                std::string("efg-ci with a fixed radius: ") + kConvergesCriterion,
@@ -162,7 +185,8 @@ std::vector<Finding> cantilever_findings() {
                  const auto s = of(all, "efg-ci", true);
                  if (s.empty()) return not_run("efg-ci with radius=");
                  const bool ok = s[0]->l2_trend.converges();
-                 return {ok ? "reproduced" : "not reproduced", describe(*s[0])};
+                 return numbered({ok ? "reproduced" : "not reproduced", describe(*s[0])}, {s[0]},
+                                 true);
                },
                "efg-ci-constant-support"});
   // Not from 001: the same claim measured with VCI (Chen, Hillman & Rüter 2013), which
@@ -182,7 +206,8 @@ std::vector<Finding> cantilever_findings() {
                      if (std::string(m) == "kbm-si" && std::string(v) == "linear") continue;
                      for (const auto* s : of(all, m, false, v)) text += "; " + describe(*s);
                    }
-                 return {ok ? "reproduced under a stated reading" : "not reproduced", text};
+                 return numbered({ok ? "reproduced under a stated reading" : "not reproduced", text},
+                                 {k[0]}, true);
                },
                "kbm-si-rate-vci"});
   // Not from 001 either (issue 43): quadratic VCI also meets the second divergence identity,
@@ -200,8 +225,9 @@ std::vector<Finding> cantilever_findings() {
                  const auto& pw = k[0]->l2_trend.pairwise;
                  const double last = pw.empty() ? NAN : pw.back();
                  const bool ok = last >= 1.7 && last <= 2.3 && k[0]->l2_trend.converges();
-                 return {ok ? "reproduced under a stated reading" : "not reproduced",
-                         fmt::format("{}; finest-pair L2 rate {:.2f}", describe(*k[0]), last)};
+                 return numbered({ok ? "reproduced under a stated reading" : "not reproduced",
+                                  fmt::format("{}; finest-pair L2 rate {:.2f}", describe(*k[0]), last)},
+                                 {k[0]}, true);
                },
                "kbm-si-rate-vci-quadratic"});
   return f;

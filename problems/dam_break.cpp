@@ -347,13 +347,14 @@ std::vector<Finding> DamBreak::findings() const {
            const double mx = last(*s, "front max error (Z/a)");
            const bool all_points =
                last(*s, "front points compared") >= last(*s, "front points due");
-           t.add(*s, last(*s, "unstable") == 0 && all_points && rms <= kFrontRms && mx <= kFrontMax,
+           t.add_headlines(*s, last(*s, "unstable") == 0 && all_points && rms <= kFrontRms && mx <= kFrontMax,
                  fmt::format("RMS {}, max {} over {} points (diagnostic: {} after a shift of {} "
                              "in T)",
                              fmt_or_dash(rms), fmt_or_dash(mx),
                              fmt_or_dash(last(*s, "front points compared"), "{:.0f}"),
                              fmt_or_dash(last(*s, "diagnostic: front RMS after the shift (Z/a)")),
-                             fmt_or_dash(last(*s, "diagnostic: best time shift (T)"))));
+                             fmt_or_dash(last(*s, "diagnostic: best time shift (T)"))),
+                 {"front RMS error (Z/a)", "front max error (Z/a)"});
          }
          Verdict v = t.verdict("no Eulerian dam-break study");
          for (const auto* s : finding::studies_in_frame(all, "lagrangian"))
@@ -376,9 +377,10 @@ std::vector<Finding> DamBreak::findings() const {
          Tally t;
          for (const auto* s : finding::studies_in_frame(all, "eulerian")) {
            const double rms = last(*s, "height RMS error (H/a)");
-           t.add(*s, last(*s, "unstable") == 0 && rms <= kHeightRms,
+           t.add_headlines(*s, last(*s, "unstable") == 0 && rms <= kHeightRms,
                  fmt::format("RMS {}, max {}", fmt_or_dash(rms),
-                             fmt_or_dash(last(*s, "height max error (H/a)"))));
+                             fmt_or_dash(last(*s, "height max error (H/a)"))),
+                 {"height RMS error (H/a)"});
          }
          return t.verdict("no Eulerian dam-break study");
        },
@@ -396,7 +398,8 @@ std::vector<Finding> DamBreak::findings() const {
            for (const auto* s : finding::studies_in_frame(all, frame)) {
              if (last(*s, "unstable") == 1) continue;
              const double v = last(*s, "front speed / Ritter bound");
-             t.add(*s, v > 0 && v < 1, fmt::format("{} of the bound", fmt_or_dash(v)));
+             t.add_headlines(*s, v > 0 && v < 1, fmt::format("{} of the bound", fmt_or_dash(v)),
+                             {"front speed / Ritter bound"});
            }
          return t.verdict("no dam-break study ran to the end");
        },
@@ -413,9 +416,10 @@ std::vector<Finding> DamBreak::findings() const {
          for (const auto* s : finding::studies_in_frame(all, "eulerian")) {
            const double e = last(*s, "energy balance / released");
            const double rho = last(*s, "max density deviation");
-           t.add(*s, last(*s, "unstable") == 0 && e <= kBalanceTolerance && rho <= kDensityTolerance,
+           t.add_headlines(*s, last(*s, "unstable") == 0 && e <= kBalanceTolerance && rho <= kDensityTolerance,
                  fmt::format("balance {} of the released energy, density within {}",
-                             fmt_or_dash(e), fmt_or_dash(rho)));
+                             fmt_or_dash(e), fmt_or_dash(rho)),
+                 {"energy balance / released", "max density deviation"});
          }
          return t.verdict("no Eulerian dam-break study");
        },

@@ -126,6 +126,12 @@ double sigma_of(const StudySummary& s) {
   return s.problem_resolved.number("sigma");
 }
 
+/// A number of a dispersion study: the lattice is infinite, so there is no resolution of
+/// its own; its uncertainty is the ledger's converged check (a finer κ sampling).
+FindingNumber dispersion_number(const StudySummary& s, const std::string& what, double v) {
+  return {fmt::format("{} σ̄={:g}: {}", s.label, sigma_of(s), what), {NAN}, {v}};
+}
+
 }  // namespace
 
 std::vector<Finding> DispersionProblem::findings() const {
@@ -136,6 +142,7 @@ std::vector<Finding> DispersionProblem::findings() const {
        [](const std::vector<StudySummary>& all) -> Verdict {
          int yes = 0, no = 0;
          std::string ours;
+         std::vector<FindingNumber> numbers;
          for (const auto* s : matching(all, "", "frame=lagrangian")) {
            if (s->method.find("-ni") == std::string::npos) continue;
            const bool ok = head(*s, kSpurious) > 0.5;
@@ -143,9 +150,10 @@ std::vector<Finding> DispersionProblem::findings() const {
            ours += fmt::format("{}{} σ̄={:g}: {}", ours.empty() ? "" : "; ", s->label, sigma_of(*s),
                                ok ? fmt::format("zero at κ = {:.3f}", head(*s, kSpuriousKappa))
                                   : "no zero");
+           if (ok) numbers.push_back(dispersion_number(*s, "spurious zero's κ (π/Δx)", head(*s, kSpuriousKappa)));
          }
          if (yes + no == 0) return {"not run", "no nodal Lagrangian study"};
-         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
+         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours, numbers};
        }, "nodal-zero-mode"});
   f.push_back(
       {"000 §3.1.1, Fig. 5", "Lagrangian kernel: unstable exactly when C̄ = C + σ ≤ 0, as the continuum",
@@ -179,7 +187,8 @@ std::vector<Finding> DispersionProblem::findings() const {
           const auto one =
               matching(all, "kbm-ni", "frame=eulerian,lattice=line,sigma=1", "dmax=1.5");
           if (one.empty()) return {"not run", "no Eulerian kbm-ni dmax=1.5 σ̄=1 study"};
-          const double onset = head(*one.front(), key);
+          const StudySummary* one_study = one.front();
+          const double onset = head(*one_study, key);
           std::string ours = fmt::format("onset {:.3f} π/Δx at σ̄ = 1", onset);
           bool falls = true;
           for (const auto* s : matching(all, "kbm-ni", "frame=eulerian,lattice=line", "dmax=1.5"))
@@ -193,7 +202,7 @@ std::vector<Finding> DispersionProblem::findings() const {
           return {dev <= 0.05 && falls            ? "reproduced"
                   : dev <= 0.15 || falls          ? "partly"
                                                   : "not reproduced",
-                  ours};
+                  ours, {dispersion_number(*one_study, "onset at σ̄ = 1 (π/Δx)", onset)}};
         },
         id};
   };
@@ -216,10 +225,12 @@ std::vector<Finding> DispersionProblem::findings() const {
          if (cut.empty()) return {"not run", "no Lagrangian kbm-si line study at σ̄ = 0"};
          bool positive = true, falling = true, exp_above = true;
          std::string ours;
+         std::vector<FindingNumber> numbers;
          for (const auto& [k, byd] : cut) {
            double last = 1e300;
            for (const auto& [d, w] : byd) {
              ours += fmt::format("{}{} D_mx {:g}: {:.4f}", ours.empty() ? "" : "; ", k, d, w);
+             numbers.push_back({fmt::format("{} D_mx {:g}: cut-off ω", k, d), {NAN}, {w}});
              if (!(w > 1e-3)) positive = false;
              if (!(w < last)) falling = false;
              last = w;
@@ -229,7 +240,7 @@ std::vector<Finding> DispersionProblem::findings() const {
            for (const auto& [d, w] : cut["exponential"])
              if (cut["quartic-spline"].count(d) && !(w > cut["quartic-spline"][d])) exp_above = false;
          const int ok = positive + falling + exp_above;
-         return {ok == 3 ? "reproduced" : ok == 0 ? "not reproduced" : "partly", ours};
+         return {ok == 3 ? "reproduced" : ok == 0 ? "not reproduced" : "partly", ours, numbers};
        }, "stress-points-cutoff"});
   f.push_back(
       {"000 §4.2.1, Fig. 11", "2D stress points: quadrilateral centres leave a spurious mode at θ = 45° (zone corner); triangle centres remove it",
@@ -251,6 +262,7 @@ std::vector<Finding> DispersionProblem::findings() const {
        [](const std::vector<StudySummary>& all) -> Verdict {
          int yes = 0, no = 0;
          std::string ours;
+         std::vector<FindingNumber> numbers;
          for (const auto* s : matching(all, "kbm-si", "frame=eulerian,sigma=2")) {
            if (s->problem_resolved.text("lattice") == "line") continue;
            const bool u = head(*s, kUnstable) > 0.5;
@@ -258,9 +270,12 @@ std::vector<Finding> DispersionProblem::findings() const {
            ours += fmt::format("{}{} {}: {}", ours.empty() ? "" : "; ", s->label,
                                s->problem_resolved.text("lattice"),
                                u ? fmt::format("onset {:.3f} π/Δx", head(*s, kOnset)) : "stable");
+           if (u)
+             numbers.push_back(dispersion_number(*s, fmt::format("{} onset (π/Δx)", s->problem_resolved.text("lattice")),
+                                   head(*s, kOnset)));
          }
          if (yes + no == 0) return {"not run", "no 2D Eulerian kbm-si study at σ̄ = 2"};
-         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
+         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours, numbers};
        }, "eulerian-2d-unstable"});
   // 000 §5.1's prestressed-rod verdicts as the von Neumann analysis of the same method sees
   // them on the infinite line (the second route of the prestressed-rod rows): unstable means
@@ -275,6 +290,7 @@ std::vector<Finding> DispersionProblem::findings() const {
         [=](const std::vector<StudySummary>& all) -> Verdict {
           int right = 0, wrong = 0;
           std::string ours;
+          std::vector<FindingNumber> numbers;
           const std::string want = std::string(frame) == "any"
                                        ? std::string("lattice=line")
                                        : fmt::format("frame={},lattice=line", frame);
@@ -283,12 +299,15 @@ std::vector<Finding> DispersionProblem::findings() const {
             if (sg < lo - 1e-12 || sg > hi + 1e-12) continue;
             const bool u = head(*s, kUnstable) > 0.5;
             (u == unstable ? right : wrong) += 1;
+            if (u)
+              numbers.push_back(dispersion_number(*s, fmt::format("σ̄ = {:g} onset (π/Δx)", sg), head(*s, kOnset)));
             ours += fmt::format("{}{} σ̄={:g}: {}", ours.empty() ? "" : "; ", s->label, sg,
                                 u ? fmt::format("unstable above κ = {:.3f} π/Δx", head(*s, kOnset))
                                   : "stable");
           }
           if (right + wrong == 0) return {"not run", "no matching line study"};
-          return {wrong == 0 ? "reproduced" : right == 0 ? "not reproduced" : "partly", ours};
+          return {wrong == 0 ? "reproduced" : right == 0 ? "not reproduced" : "partly", ours,
+                  numbers};
         },
         id};
   };

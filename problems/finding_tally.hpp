@@ -3,6 +3,7 @@
 /// some do, not reproduced when none does), with the numbers behind each.
 #pragma once
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -40,10 +41,71 @@ inline std::vector<const StudySummary*> studies_in_frame(const std::vector<Study
   return out;
 }
 
+/// "sph (lagrangian): what": a number's name, unique per study and frame (the frame left out
+/// for a problem that has none).
+inline std::string number_name(const StudySummary& s, const std::string& what) {
+  if (!s.problem_resolved.has("frame")) return fmt::format("{}: {}", s.label, what);
+  return fmt::format("{} ({}): {}", s.label, s.problem_resolved.text("frame"), what);
+}
+
+/// A number read at the study's finest resolution only (a transient finding's): one level.
+inline FindingNumber at_finest(const StudySummary& s, const std::string& what, double v) {
+  return {number_name(s, what), {s.h.empty() ? NAN : s.h.back()}, {v}};
+}
+
+/// A number at every resolution of the study (`values` coarsest first, as s.h).
+inline FindingNumber per_resolution(const StudySummary& s, const std::string& what,
+                                    std::vector<double> values, double order = NAN) {
+  std::vector<double> h = s.h;
+  h.resize(values.size(), NAN);
+  return {number_name(s, what), std::move(h), std::move(values), order};
+}
+
+/// The headline `key` at every resolution of the study (NaN where not measured).
+inline FindingNumber headline_per_resolution(const StudySummary& s, const std::string& key) {
+  std::vector<double> v;
+  for (const auto& h : s.headlines) {
+    const auto it = h.find(key);
+    v.push_back(it == h.end() ? NAN : it->second);
+  }
+  return per_resolution(s, key, std::move(v));
+}
+
+/// The relative L2 error (common rule) at every resolution; formal order `order`.
+inline FindingNumber l2_per_resolution(const StudySummary& s, double order = NAN) {
+  return per_resolution(s, "relative L2 error", s.l2_rel, order);
+}
+
+/// The pairwise L2 rates, each at the geometric mean spacing of its pair (the sequence the
+/// asymptotic order is the limit of, as the ledger's rate rows read it).
+inline FindingNumber l2_rate_per_pair(const StudySummary& s) {
+  FindingNumber n{number_name(s, "L2 rate (pairwise)"), {}, {}};
+  const auto& pw = s.l2_trend.pairwise;
+  for (std::size_t k = 0; k < pw.size() && k + 1 < s.h.size(); ++k) {
+    n.h.push_back(std::sqrt(s.h[k] * s.h[k + 1]));
+    n.values.push_back(pw[k]);
+  }
+  return n;
+}
+
 /// Studies that pass a criterion and that do not, with their numbers.
 struct Tally {
   int yes = 0, no = 0;
   std::string text;
+  std::vector<FindingNumber> numbers;  ///< what the parts were decided on
+  /// One study judged on its headlines `keys`: each recorded at every resolution for the
+  /// ledger's uncertainty (one level when the study has one resolution).
+  void add_headlines(const StudySummary& s, bool ok, const std::string& text_numbers,
+                     std::initializer_list<const char*> keys) {
+    add(s, ok, text_numbers);
+    for (const char* k : keys) numbers.push_back(headline_per_resolution(s, k));
+  }
+  /// One study judged on `decided_on` (at_finest, per_resolution, …).
+  void add_numbers(const StudySummary& s, bool ok, const std::string& text_numbers,
+                   std::vector<FindingNumber> decided_on) {
+    add(s, ok, text_numbers);
+    for (auto& n : decided_on) numbers.push_back(std::move(n));
+  }
   /// One judged part, `what` its numbers.
   void add(bool ok, const std::string& what) {
     (ok ? yes : no) += 1;
@@ -57,7 +119,7 @@ struct Tally {
   /// `missing` when there is no study.
   Verdict verdict(const std::string& missing) const {
     if (yes + no == 0) return {"not run", missing};
-    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text};
+    return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", text, numbers};
   }
 };
 

@@ -486,7 +486,7 @@ std::vector<Finding> Funnel::findings() const {
              const double blow = last(*l, "blow-up time (s)");
              const double earliest = last(*l, "half-drain time band low (s)");
              const bool explodes = last(*l, "unstable") == 1 && blow < earliest;
-             pairs.add(*e, drains && explodes,
+             pairs.add_numbers(*e, drains && explodes,
                        fmt::format(
                            "Eulerian: drained {} (band {}–{}), half-drain {} s (band {}–{} s), "
                            "energy error {}, density {}–{} ρ0{}; Lagrangian: {}",
@@ -511,7 +511,10 @@ std::vector<Finding> Funnel::findings() const {
                                              fmt_or_dash(earliest))
                                : fmt::format("no blow-up to {} s (drained {})",
                                              fmt_or_dash(last(*l, "time reached (s)")),
-                                             fmt_or_dash(last(*l, "drained fraction")))));
+                                             fmt_or_dash(last(*l, "drained fraction")))),
+                       {finding::headline_per_resolution(*e, "drained fraction"),
+                        finding::headline_per_resolution(*e, "half-drain time (s)"),
+                        finding::headline_per_resolution(*l, "blow-up time (s)")});
            }
          return pairs.verdict("needs a Lagrangian and an Eulerian kbm-si study of the funnel");
        },

@@ -338,10 +338,11 @@ std::vector<Finding> HydrostaticColumn::findings() const {
          for (const char* frame : {"lagrangian", "eulerian"})
            for (const auto* s : finding::studies_in_frame(all, frame)) {
              const double e = last(*s, "pressure error (time-averaged)");
-             t.add(*s, last(*s, "unstable") == 0 && e <= kPressureTolerance,
+             t.add_headlines(*s, last(*s, "unstable") == 0 && e <= kPressureTolerance,
                    fmt::format("e_p = {} (end {}), bottom row {} of exact", fmt_or_dash(e),
                                fmt_or_dash(last(*s, "pressure error (end)")),
-                               fmt_or_dash(last(*s, "bottom-row pressure / exact"))));
+                               fmt_or_dash(last(*s, "bottom-row pressure / exact"))),
+                   {"pressure error (time-averaged)"});
            }
          return t.verdict("no hydrostatic-column study");
        },
@@ -360,11 +361,12 @@ std::vector<Finding> HydrostaticColumn::findings() const {
              const double k = last(*s, "peak kinetic energy / MgH");
              const double rho = last(*s, "max density deviation");
              const double e = last(*s, "energy balance / MgH");
-             t.add(*s,
+             t.add_headlines(*s,
                    last(*s, "unstable") == 0 && k <= kKineticTolerance &&
                        rho <= kDensityTolerance && e <= kBalanceTolerance,
                    fmt::format("peak K = {} M g H, density within {}, balance {} M g H",
-                               fmt_or_dash(k), fmt_or_dash(rho), fmt_or_dash(e)));
+                               fmt_or_dash(k), fmt_or_dash(rho), fmt_or_dash(e)),
+                   {"peak kinetic energy / MgH", "max density deviation", "energy balance / MgH"});
            }
          return t.verdict("no hydrostatic-column study");
        },

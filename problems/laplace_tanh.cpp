@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -50,6 +51,7 @@ Finding table1_finding(const std::string& rule, const std::string& derivative,
           [rule, derivative](const std::vector<StudySummary>& all) -> Verdict {
             int matched = 0, columns = 0;
             std::string text;
+            std::vector<FindingNumber> numbers;
             for (int c = 0; c < 6; ++c)
               for (const auto& s : all) {
                 if (s.method != "rkpm" || !s.params.has("rule") || s.params.text("rule") != rule ||
@@ -71,6 +73,7 @@ Finding table1_finding(const std::string& rule, const std::string& derivative,
                   worst = std::isfinite(d) ? std::max(worst, d) : INFINITY;
                 }
                 ++columns;
+                numbers.push_back(finding::headline_per_resolution(s, kPeakName));
                 matched += worst <= kColumnTolerance;
                 text += fmt::format("{}j={}: max |diff| {:.4f}{}", text.empty() ? "" : "; ",
                                     kTableJ[c], worst, worst <= kColumnTolerance ? "" : " (fails)");
@@ -82,8 +85,10 @@ Finding table1_finding(const std::string& rule, const std::string& derivative,
             const std::string status = matched == 6 ? "reproduced under a stated reading"
                                        : matched > 0 ? "partly"
                                                      : "not reproduced";
-            return {status, fmt::format("{} of {} columns within {}: {}", matched, columns,
-                                        kColumnTolerance, text)};
+            return {status,
+                    fmt::format("{} of {} columns within {}: {}", matched, columns,
+                                kColumnTolerance, text),
+                    numbers};
           },
           id};
 }
@@ -135,11 +140,20 @@ Finding sph_galerkin_boundary_gradient(double s) {
           [=](const std::vector<StudySummary>& all) -> Verdict {
             int sph = 0, wrong = 0, rk = 0, right = 0;
             std::string sph_text, rk_text;
+            std::vector<FindingNumber> numbers;
             for (const auto& st : all) {
               if (st.method != "sph-galerkin" && st.method != "rkpm") continue;
               const auto* h = at_fig3_spacing(st);
               if (!h || !h->count(kEndSlopeError)) continue;
               const double e = h->at(kEndSlopeError);
+              // Decided at 81 nodes: the number's levels are the study's up to that one.
+              {
+                FindingNumber n = finding::headline_per_resolution(st, kEndSlopeError);
+                const auto at = static_cast<std::size_t>(h - st.headlines.data()) + 1;
+                n.h.resize(std::min(at, n.h.size()));
+                n.values.resize(n.h.size());
+                numbers.push_back(std::move(n));
+              }
               std::string& text = st.method == "rkpm" ? rk_text : sph_text;
               text += fmt::format("{}{} {:.3g}", text.empty() ? "" : ", ", st.label, e);
               if (st.method == "rkpm") {
@@ -159,8 +173,8 @@ Finding sph_galerkin_boundary_gradient(double s) {
                 "{:g}) {}",
                 sph_text, right, rk, right_at, rk_text);
             // Fig. 3 shows two windows: one study alone reproduces only part of the claim.
-            if (wrong == sph && sph >= 2 && right > 0) return {"reproduced", text};
-            return {wrong > 0 ? "partly" : "not reproduced", text};
+            if (wrong == sph && sph >= 2 && right > 0) return {"reproduced", text, numbers};
+            return {wrong > 0 ? "partly" : "not reproduced", text, numbers};
           },
           "sph-galerkin-boundary-gradient"};
 }

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "problems/manufactured.hpp"
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 
 namespace mfv {
@@ -70,7 +71,8 @@ class ManufacturedPoisson1D final : public ScalarProblem {
                          : "not reproduced",
                       fmt::format("{}: L2 rate {:.2f} ({}), finest L2 {:.2e} at {} nodes",
                                   s.label, s.l2_rate, s.l2_trend.label(), s.l2_rel_finest,
-                                  s.finest_nodes)};
+                                  s.finest_nodes),
+                      {finding::l2_per_resolution(s, 2.0), finding::l2_rate_per_pair(s)}};
             }
             return {"not run", "no kbm-si study" + (vci == "false" ? "" : " with vci=" + vci)};
           },

@@ -30,6 +30,7 @@ namespace {
 using finding::fmt_or_dash;
 using finding::last;
 using finding::Tally;
+using finding::headline_per_resolution;
 
 /// Plate side L (m), density ρ (kg/m³): a steel plate of 10 mm (our choice; 001 gives neither;
 /// ρ is also needleman_1989_parameters()'s density).
@@ -527,13 +528,14 @@ std::vector<Finding> Plate::findings() const {
            for (const auto* s : finding::studies_in_frame(all, frame)) {
              const double a = last(*s, "band angle (deg)");
              const bool blew = last(*s, "unstable") == 1;
-             t.add(*s, std::abs(a - 45) <= kAngleTolerance,
+             t.add_headlines(*s, std::abs(a - 45) <= kAngleTolerance,
                    fmt::format("band at {}° ({} families){}", fmt_or_dash(a),
                                fmt_or_dash(last(*s, "band families"), "{:.0f}"),
                                blew ? fmt::format(", blew up at nominal strain {}",
                                                   fmt_or_dash(last(*s, "unstable at (nominal "
                                                                        "strain)")))
-                                    : ""));
+                                    : ""),
+                   {"band angle (deg)"});
            }
          return t.verdict("no compressed-plate study");
        },
@@ -582,7 +584,7 @@ std::vector<Finding> Plate::findings() const {
              // No oscillation above the floor (fewer than 4 half-periods) is "slight at most".
              const bool l_slight = last(*l, "unstable") == 0 &&
                                    (gl < kGrowFactor || last(*l, "oscillation half-periods") < 4);
-             pairs.add(*e, e_grows && l_slight,
+             pairs.add_numbers(*e, e_grows && l_slight,
                        fmt::format("Eulerian growth factor {} (rate {} per unit nominal strain){}; "
                                    "Lagrangian {} (rate {})",
                                    fmt_or_dash(ge), fmt_or_dash(last(*e, "oscillation growth rate")),
@@ -592,7 +594,9 @@ std::vector<Finding> Plate::findings() const {
                                                         fmt_or_dash(last(*e, "blow-up particle x (mm)")),
                                                         fmt_or_dash(last(*e, "blow-up particle y (mm)")))
                                           : "",
-                                   fmt_or_dash(gl), fmt_or_dash(last(*l, "oscillation growth rate"))));
+                                   fmt_or_dash(gl), fmt_or_dash(last(*l, "oscillation growth rate"))),
+                       {headline_per_resolution(*e, "oscillation growth factor"),
+                        headline_per_resolution(*l, "oscillation growth factor")});
            }
          return pairs.verdict(
              "needs a Lagrangian and an Eulerian study of one method with material=viscoplastic");

@@ -18,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "problems/finding_tally.hpp"
 #include "problems/problem.hpp"
 #include "problems/transient_problem.hpp"
 
@@ -64,6 +65,7 @@ std::string peak_text(double ratio, bool stopped) {
 struct Count {
   int unstable = 0, stable = 0;
   std::string text;
+  std::vector<FindingNumber> numbers;  ///< peak v/v0 of each study at each resolution
 };
 void tally(const StudySummary& s, Count& c) {
   for (const auto& h : s.headlines) {
@@ -75,6 +77,7 @@ void tally(const StudySummary& s, Count& c) {
                           peak_text(p == h.end() ? NAN : p->second,
                                     capped != h.end() && capped->second > 0.5));
   }
+  c.numbers.push_back(finding::headline_per_resolution(s, kPeak));
 }
 
 Verdict expect(const std::vector<const StudySummary*>& studies, bool unstable,
@@ -84,7 +87,8 @@ Verdict expect(const std::vector<const StudySummary*>& studies, bool unstable,
   for (const auto* s : studies) tally(*s, c);
   const int right = unstable ? c.unstable : c.stable, wrong = unstable ? c.stable : c.unstable;
   if (right + wrong == 0) return {"not run", "no verdict headline in the studies of " + what};
-  return {wrong == 0 ? "reproduced" : right == 0 ? "not reproduced" : "partly", c.text};
+  return {wrong == 0 ? "reproduced" : right == 0 ? "not reproduced" : "partly", c.text,
+          std::move(c.numbers)};
 }
 
 std::vector<Finding> prestressed_rod_findings() {

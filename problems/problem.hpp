@@ -74,10 +74,22 @@ struct StudySummary {
   ConvergenceJudgement l2_trend, energy_trend;
 };
 
+/// A number a finding decides on (issue 44): its values at the resolutions of the study it
+/// reads, coarsest first, so that the ledger can say how sure it is (reports/uncertainty.hpp).
+/// A transient finding reads one resolution: one value, whose uncertainty comes from the
+/// ledger row's converged check (the same number at a finer step or more particles).
+struct FindingNumber {
+  std::string name;               ///< "sph (lagrangian): front rms", unique within a verdict
+  std::vector<double> h, values;  ///< refinement parameter and value per level
+  /// The formal order, used with two levels only (F_s = 3); NaN: none is known.
+  double order = NAN;
+};
+
 /// What a finding says about our run.
 struct Verdict {
   std::string status;  ///< "reproduced", "not reproduced", "partly", "not run"
   std::string ours;    ///< the measured numbers behind it
+  std::vector<FindingNumber> numbers = {};  ///< the numbers the status was decided on
 };
 
 /// A qualitative statement of a paper, checked against our studies by `check`.

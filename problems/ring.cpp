@@ -767,7 +767,8 @@ std::vector<const StudySummary*> ring_studies(const std::vector<StudySummary>& a
 /// Both sides (Lagrangian and Eulerian studies) judged together.
 Verdict combine(const Tally& a, const Tally& b, const std::string& what) {
   if (a.yes + a.no == 0 || b.yes + b.no == 0) return {"not run", "needs studies of " + what};
-  Tally both{a.yes + b.yes, a.no + b.no, a.text + "; " + b.text};
+  Tally both{a.yes + b.yes, a.no + b.no, a.text + "; " + b.text, a.numbers};
+  both.numbers.insert(both.numbers.end(), b.numbers.begin(), b.numbers.end());
   return both.verdict("");
 }
 
@@ -793,14 +794,15 @@ std::vector<Finding> Ring::findings() const {
            Tally lag, eul;
            for (const auto* s : ring_studies(all, "lagrangian", "", "paper")) {
              const double c = last(*s, "peak clustering");
-             lag.add(*s, c <= kEven && last(*s, "unstable") == 0,
-                     fmt::format("peak gap ratio {}", fmt_or_dash(c)));
+             lag.add_headlines(*s, c <= kEven && last(*s, "unstable") == 0,
+                               fmt::format("peak gap ratio {}", fmt_or_dash(c)),
+                               {"peak clustering"});
            }
            for (const auto* s : ring_studies(all, "eulerian", "", "paper")) {
              const double c = last(*s, "peak clustering");
              const double nb = last(*s, "neighbours at clustering onset");
              const bool blew = last(*s, "unstable") == 1;
-             eul.add(*s, c >= kClustered && nb >= 4,
+             eul.add_headlines(*s, c >= kClustered && nb >= 4,
                      fmt::format("peak gap ratio {} (onset {} ms with {} neighbours), smallest "
                                  "neighbour count {}{}",
                                  fmt_or_dash(c), fmt_or_dash(last(*s, "clustering onset (ms)")),
@@ -808,7 +810,8 @@ std::vector<Finding> Ring::findings() const {
                                  fmt_or_dash(last(*s, "min neighbours"), "{:.0f}"),
                                  blew ? fmt::format(", blew up at {} ms",
                                                     fmt_or_dash(last(*s, "unstable at (ms)")))
-                                      : ""));
+                                      : ""),
+                     {"peak clustering"});
            }
            return combine(lag, eul, "rubber-ring load=paper with both kernels");
          },
@@ -825,16 +828,19 @@ std::vector<Finding> Ring::findings() const {
            Tally lag, eul;
            for (const auto* s : ring_studies(all, "lagrangian", "kbm-si", "paper")) {
              const double v = last(*s, "σθθ symmetry at 0.12 ms");
-             lag.add(*s, v <= kSymmetric, fmt::format("symmetry at 0.12 ms {}", fmt_or_dash(v)));
+             lag.add_headlines(*s, v <= kSymmetric,
+                               fmt::format("symmetry at 0.12 ms {}", fmt_or_dash(v)),
+                               {"σθθ symmetry at 0.12 ms"});
            }
            for (const auto* s : ring_studies(all, "eulerian", "kbm-si", "paper")) {
              const double v = last(*s, "peak σθθ symmetry");
-             eul.add(*s, v >= kSpots,
+             eul.add_headlines(*s, v >= kSpots,
                      fmt::format("peak symmetry {}{}", fmt_or_dash(v),
                                  last(*s, "unstable") == 1
                                      ? fmt::format(" before it blew up at {} ms",
                                                    fmt_or_dash(last(*s, "unstable at (ms)")))
-                                     : ""));
+                                     : ""),
+                     {"peak σθθ symmetry"});
            }
            return combine(lag, eul, "rubber-ring kbm-si load=paper with both kernels");
          },
@@ -853,9 +859,11 @@ std::vector<Finding> Ring::findings() const {
                const double ap = last(*s, "band angle + (deg)"), am = last(*s, "band angle − (deg)");
                const bool ok = std::abs(ap - 45) <= 10 && std::abs(am - 45) <= 10;
                (std::string(frame) == "lagrangian" ? lag : eul)
-                   .add(*s, ok, fmt::format("ψ+ {}°, ψ− {}°, onset {} ms", fmt_or_dash(ap),
-                                            fmt_or_dash(am),
-                                            fmt_or_dash(last(*s, "band onset (ms)"))));
+                   .add_headlines(*s, ok,
+                                  fmt::format("ψ+ {}°, ψ− {}°, onset {} ms", fmt_or_dash(ap),
+                                              fmt_or_dash(am),
+                                              fmt_or_dash(last(*s, "band onset (ms)"))),
+                                  {"band angle + (deg)", "band angle − (deg)"});
              }
            return combine(lag, eul, "steel-ring load=ramp with both kernels");
          },
@@ -877,10 +885,13 @@ std::vector<Finding> Ring::findings() const {
                double dp = std::abs(pl - pe);
                dp = std::min(dp, 360 - dp);
                const double dr = std::abs(re / rl - 1);
-               pairs.add(*e, dp > 3 && dr <= 0.05,
+               pairs.add_numbers(*e, dp > 3 && dr <= 0.05,
                          fmt::format("band 1 at {}° vs {}° (Lagrangian), inner radius {} vs {}",
                                      fmt_or_dash(pe), fmt_or_dash(pl), fmt_or_dash(re, "{:.4g}"),
-                                     fmt_or_dash(rl, "{:.4g}")));
+                                     fmt_or_dash(rl, "{:.4g}")),
+                         {finding::at_finest(*e, "band 1 shift from the Lagrangian (deg)", dp),
+                          finding::at_finest(*e, "inner radius at 0.4 ms / the Lagrangian − 1",
+                                             dr)});
              }
            return pairs.verdict("needs a Lagrangian and an Eulerian study of one method");
          },
@@ -896,7 +907,8 @@ std::vector<Finding> Ring::findings() const {
          for (const char* frame : {"lagrangian", "eulerian"})
            for (const auto* s : ring_studies(all, frame, "", "lame")) {
              const double e = last(*s, "u(a) / Lamé − 1");
-             ok.add(*s, std::abs(e) <= 0.015, fmt::format("u(a) error {}", fmt_or_dash(e)));
+             ok.add_headlines(*s, std::abs(e) <= 0.015, fmt::format("u(a) error {}", fmt_or_dash(e)),
+                              {"u(a) / Lamé − 1"});
            }
          return ok.verdict("no study with load=lame");
        },

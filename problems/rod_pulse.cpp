@@ -325,12 +325,15 @@ class RodPulse final : public TransientProblem {
         const std::vector<std::string> names = {"sph", "rlm", "kbm-si", "efg-ni", "efg-ci"};
         std::map<std::string, double> e;
         std::string ours;
+        std::vector<FindingNumber> numbers;
         for (const auto& n : names) {
           const double err = value_of(s, n, "velocity error at L/c", nodes);
           const int at = nodes > 0 ? nodes : table3_nodes(n);
           if (std::isnan(err))
             return Verdict{"not run", fmt::format("{} has no Gaussian study at {} nodes", n, at)};
           e[n] = err;
+          numbers.push_back({fmt::format("{}: velocity error at L/c ({} nodes)", n, at),
+                             {kLength / (at - 1)}, {err}});
           ours += fmt::format("{} {:.4f} ({} x {}); ", n, err, at, (at - 1) / 12 + 1);
         }
         const bool sph_worst = std::all_of(names.begin(), names.end(),
@@ -341,7 +344,8 @@ class RodPulse final : public TransientProblem {
             std::max(e["kbm-si"], e["efg-ni"]) / std::min(e["kbm-si"], e["efg-ni"]);
         ours += fmt::format("kbm-si/efg-ni ratio {:.2f}", ratio);
         const int held = sph_worst + efg_best + (ratio <= 1.5);
-        return Verdict{held == 3 ? "reproduced" : held == 0 ? "not reproduced" : "partly", ours};
+        return Verdict{held == 3 ? "reproduced" : held == 0 ? "not reproduced" : "partly", ours,
+                       numbers};
       };
     };
     Finding rank;

@@ -88,9 +88,12 @@ std::vector<Finding> StretchMapProblem::findings() const {
        [](const std::vector<StudySummary>& all) -> Verdict {
          int yes = 0, no = 0;
          std::string ours;
+         std::vector<FindingNumber> numbers;
          for (const auto* s : with_frame(all, kLagAgree)) {
            const auto& h = s->headlines.back();
            const double agree = h.at(kLagAgree);
+           // One map per study: its uncertainty is the converged check's (a finer grid).
+           numbers.push_back({s->label + ": fraction agreeing with the PDE", {NAN}, {agree}});
            (agree >= 0.9 ? yes : no) += 1;
            ours += fmt::format("{}{}: agrees on {:.0f}% of {:g} states ({:g} PDE-stable but "
                                "unstable, {:g} PDE-unstable but stable)",
@@ -98,7 +101,7 @@ std::vector<Finding> StretchMapProblem::findings() const {
                                h.at(kPdeNotLag), h.at(kLagNotPde));
          }
          if (yes + no == 0) return {"not run", "no stretch-map study with the Lagrangian frame"};
-         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours};
+         return {no == 0 ? "reproduced" : yes == 0 ? "not reproduced" : "partly", ours, numbers};
        }, "lagrangian-pde"});
   // 001 Fig. 1(b): "dashed and solid lines bound the stable domains for Lagrangian and
   // Eulerian kernels" and "for the Eulerian kernel we can see a substantial domain (indicated
@@ -118,6 +121,7 @@ std::vector<Finding> StretchMapProblem::findings() const {
        [](const std::vector<StudySummary>& all) -> Verdict {
          int yes = 0, half = 0, no = 0;
          std::string ours;
+         std::vector<FindingNumber> numbers;
          for (const auto* s : with_frame(all, kPdeNotEul)) {
            const auto& h = s->headlines.back();
            // PDE-stable states that have an Eulerian discrete model: the discretely stable
@@ -128,6 +132,8 @@ std::vector<Finding> StretchMapProblem::findings() const {
            const double grey = ps > 0 ? bad / ps : 0, domain = ps > 0 ? good / ps : 0;
            const bool g = grey >= 0.1, d = domain >= 0.1;
            (g && d ? yes : g ? half : no) += 1;
+           numbers.push_back({s->label + ": grey fraction", {NAN}, {grey}});
+           numbers.push_back({s->label + ": Eulerian-stable fraction", {NAN}, {domain}});
            ours += fmt::format("{}{}: of the {:g} PDE-stable states with a discrete model {:g} "
                                "Eulerian-unstable ({:.0f}%), {:g} Eulerian-stable ({:.0f}%){}",
                                ours.empty() ? "" : "; ", s->label, ps, bad, 100 * grey, good,
@@ -140,7 +146,7 @@ std::vector<Finding> StretchMapProblem::findings() const {
          if (yes + half + no == 0)
            return {"not run", "no stretch-map study with the Eulerian frame"};
          return {half + no == 0 ? "reproduced" : yes + half == 0 ? "not reproduced" : "partly",
-                 ours};
+                 ours, numbers};
        }, "eulerian-unstable-region"});
   return f;
 }

@@ -13,6 +13,7 @@
 #include "temp_files.hpp"
 #include "apps/catalogue.hpp"
 #include "verify/ledger.hpp"
+#include "verify/ledger_internal.hpp"
 #include "verify/manifest.hpp"
 #include "verify/runner.hpp"
 
@@ -828,6 +829,62 @@ TEST(Ledger, GrkStepRowsAreMeasuredByTheSuite) {
     }
   }
   EXPECT_EQ(rows, 6);
+}
+
+/// Issue 44: a finding's uncertainty is computed per number its verdict rests on: the GCI from
+/// the number's own levels, or, read at one resolution, against the same number of a converged
+/// check (two levels, F_s = 3); without either it says why.
+TEST(LedgerUncertainty, AFindingCarriesTheUncertaintyOfEachNumber) {
+  LedgerReadingOutcome o;
+  // Three levels, second order, halving h: f = 1 + h^2.
+  o.numbers.push_back({"a: peak", {0.4, 0.2, 0.1}, {1.16, 1.04, 1.01}});
+  // One level, and a converged check (half the step, first order) that has the same number.
+  o.numbers.push_back({"a: growth", {0.1}, {2.0}});
+  // One level and no check of it.
+  o.numbers.push_back({"a: onset", {0.1}, {0.5}});
+  LedgerCheck check;
+  check.kind = LedgerCheck::Kind::converged;
+  check.route = "half the time step";
+  check.refinement = 2;
+  check.order = 1;
+  LedgerCheckOutcome c;
+  c.check = &check;
+  c.numbers.push_back({"a: growth", {0.1}, {2.1}});
+  o.checks.push_back(c);
+  ledger_internal::finding_uncertainty(o);
+  ASSERT_EQ(o.uncertainty.size(), 3u);
+  EXPECT_EQ(o.uncertainty_of, (std::vector<std::string>{"a: peak", "a: growth", "a: onset"}));
+  const Uncertainty& three = o.uncertainty[0];
+  ASSERT_TRUE(three.known()) << three.why_none;
+  EXPECT_NEAR(three.order, 2.0, 1e-9);
+  EXPECT_NEAR(three.extrapolated, 1.0, 1e-9);
+  EXPECT_NEAR(three.gci, 1.25 * (0.03 / 1.01) / 3, 1e-9);
+  const Uncertainty& two = o.uncertainty[1];
+  ASSERT_TRUE(two.known()) << two.why_none;
+  EXPECT_EQ(two.levels, 2);
+  EXPECT_NEAR(two.absolute, 3 * 0.1 * 2 / (2 - 1), 1e-9);  // U = F_s |Δ| r^p / (r^p − 1)
+  EXPECT_NE(two.method.find("half the time step"), std::string::npos) << two.method;
+  EXPECT_FALSE(o.uncertainty[2].known());
+  EXPECT_NE(o.uncertainty[2].why_none.find("one resolution"), std::string::npos);
+  // A check's refined case is named by ours with a suffix: the shortest such label is the
+  // counterpart (a "-wall-particles-dt" case refines another study).
+  LedgerReadingOutcome dam;
+  dam.numbers.push_back({"dam/sph (eulerian): front", {0.1}, {1.0}});
+  LedgerCheckOutcome refined;
+  refined.check = &check;
+  refined.numbers.push_back({"dam/sph-wall-particles-dt (eulerian): front", {0.1}, {5.0}});
+  refined.numbers.push_back({"dam/sph-dt (lagrangian): front", {0.1}, {7.0}});
+  refined.numbers.push_back({"dam/sph-dt (eulerian): front", {0.1}, {1.1}});
+  dam.checks.push_back(refined);
+  ledger_internal::finding_uncertainty(dam);
+  ASSERT_TRUE(dam.uncertainty.at(0).known()) << dam.uncertainty[0].why_none;
+  EXPECT_NEAR(dam.uncertainty[0].absolute, 3 * 0.1 * 2, 1e-9);
+  // A number never measured says so.
+  LedgerReadingOutcome missing;
+  missing.numbers.push_back({"b: peak", {0.1}, {NAN}});
+  ledger_internal::finding_uncertainty(missing);
+  ASSERT_EQ(missing.uncertainty.size(), 1u);
+  EXPECT_EQ(missing.uncertainty[0].why_none, "not measured");
 }
 
 }  // namespace

@@ -2,9 +2,13 @@
 
 #include <sqlite3.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <map>
 
 #include <fmt/format.h>
@@ -129,6 +133,29 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
                                  "another --history",
                                  file.string(), size));
   }
+  if (existed) {
+    // The version in the file's own header (bytes 60-63, big-endian), read before SQLite
+    // opens it: opening a database recovers its hot journal or checkpoints its write-ahead
+    // log, which rewrites someone else's file before mfv could tell it is not a history.
+    std::ifstream in(file, std::ios::binary);
+    unsigned char header[100] = {};
+    in.read(reinterpret_cast<char*>(header), sizeof header);
+    if (in.gcount() == static_cast<std::streamsize>(sizeof header) &&
+        std::memcmp(header, "SQLite format 3", 16) == 0) {
+      const std::int32_t version = static_cast<std::int32_t>(
+          (std::uint32_t(header[60]) << 24) | (std::uint32_t(header[61]) << 16) |
+          (std::uint32_t(header[62]) << 8) | std::uint32_t(header[63]));
+      if (version <= 0)
+        throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
+                                     "(user_version {}); give another --history (mfv never "
+                                     "rewrites it)",
+                                     file.string(), version));
+      if (version > kHistorySchema)
+        throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; "
+                                     "use a newer mfv or another --history",
+                                     file.string(), version, kHistorySchema));
+    }
+  }
   // Created only where no file exists (SQLITE_OPEN_CREATE only then).
   if (sqlite3_open_v2(file.c_str(), &db_,
                       SQLITE_OPEN_READWRITE | (existed ? 0 : SQLITE_OPEN_CREATE),
@@ -189,6 +216,19 @@ void HistoryStore::check_writable() {
   // The write lock append will take, taken and released now: a history another writer holds
   // past the busy timeout, or one on a read-only file or file system, fails before the first
   // case instead of after the last.
+  // SQLite opens a file it may not write read-only without saying so, and takes the lock
+  // without creating its journal: both are found here, not at the append.
+  if (sqlite3_db_readonly(db_, "main") == 1)
+    throw InputError(fmt::format("history '{}' cannot be written (the file is read-only for "
+                                 "this user); make it writable, give another --history, or run "
+                                 "with --no-history",
+                                 path_.string()));
+  const fs::path dir = path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
+  if (access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("history '{}' cannot be written: its directory '{}' is not "
+                                 "writable for this user, and SQLite writes its journal "
+                                 "there; give another --history, or run with --no-history",
+                                 path_.string(), dir.string()));
   if (sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr) != SQLITE_OK) {
     const std::string why = sqlite3_errmsg(db_);
     throw InputError(fmt::format("history '{}' cannot be written ({}); free it, give another "

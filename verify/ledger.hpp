@@ -104,6 +104,7 @@
 #include "methods/core/params.hpp"
 #include "analyses/case.hpp"
 #include "problems/comparison.hpp"
+#include "problems/problem.hpp"
 #include "reports/uncertainty.hpp"
 
 namespace mfv {
@@ -231,6 +232,7 @@ struct LedgerCheckOutcome {
   const LedgerCheck* check = nullptr;
   std::vector<double> values;  ///< value rows: the check's values (NaN: not reached)
   std::string ours_text;       ///< finding rows: the check's numbers
+  std::vector<FindingNumber> numbers;  ///< finding rows: the numbers its verdict rests on
   std::string verdict;         ///< the check's own verdict against the paper
   bool agrees = false;         ///< within the row's tolerance of the reading (or same verdict)
 };
@@ -253,8 +255,14 @@ struct LedgerReadingOutcome {
   /// Per value: its discretization uncertainty (reports/uncertainty.hpp) from the study's
   /// resolutions up to it (a rate: from its pairwise rates), or, with a single level, from
   /// the first converged check's value (two levels, F_s = 3, the check's refinement and
-  /// order); `why_none` says why not (a finding has no number).
+  /// order); `why_none` says why not. A finding's: one per number its verdict rests on
+  /// (`numbers`), from that number's levels, or, read at one resolution, from the same number
+  /// in the first converged check that has it (two levels, F_s = 3).
   std::vector<Uncertainty> uncertainty;
+  /// Finding rows: the numbers the verdict was decided on, and the name of each uncertainty
+  /// (`uncertainty_of[i]` names `uncertainty[i]`; empty for value rows, whose values are ours).
+  std::vector<FindingNumber> numbers;
+  std::vector<std::string> uncertainty_of;
   /// Per value: whether the paper's value lies inside ours ± (U + tolerance); false when U is
   /// not known.
   std::vector<bool> paper_inside;
@@ -308,6 +316,13 @@ std::string ledger_section(const LedgerRow& row);
 /// paper the rows (id, claim, paper, ours, ratio/difference, tolerance, verdict, evidence,
 /// reading), then per row the readings tried and the checks.
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries);
+/// How many claim rows whose evidence is "converged" carry a discretization uncertainty
+/// (issue 44's count): `some` for at least one of their numbers, `every` for all of them.
+/// Our own checks (role check) are left out, as they are from the papers' counts.
+struct UncertaintyCoverage {
+  int converged = 0, some = 0, every = 0;
+};
+UncertaintyCoverage uncertainty_coverage(const std::vector<LedgerEntry>& entries);
 /// The verdict and evidence counts per paper and per section (index.md's ledger; the rows are
 /// ledger.md's).
 std::string ledger_counts_markdown(const std::vector<LedgerEntry>& entries);

@@ -377,6 +377,7 @@ LedgerReadingOutcome measure_reading(const LedgerRow& row, const Registries& cat
       }
       const Verdict v = f->check(summarize(catalogue, studies));
       e.ours_text = v.ours;
+      e.numbers = v.numbers;
       e.verdict = v.status == "not run" ? std::string(kNotRun) : v.status;
       if (std::find(ledger_verdicts().begin(), ledger_verdicts().end(), e.verdict) ==
           ledger_verdicts().end())
@@ -406,6 +407,94 @@ bool check_agrees(const LedgerCheckOutcome& c, const LedgerReadingOutcome& o) {
   return true;
 }
 
+}  // namespace
+
+namespace ledger_internal {
+
+/// "dam-break/sph-eulerian (eulerian): front speed" as its study label, its frame part and
+/// what it is ("dam-break/sph-eulerian", " (eulerian)", "front speed").
+struct NumberName {
+  std::string label, frame, what;
+};
+static NumberName split_number_name(const std::string& name) {
+  const auto colon = name.find(": ");
+  if (colon == std::string::npos) return {name, "", ""};
+  std::string left = name.substr(0, colon), frame;
+  if (const auto paren = left.rfind(" ("); paren != std::string::npos && left.back() == ')') {
+    frame = left.substr(paren);
+    left.resize(paren);
+  }
+  return {left, frame, name.substr(colon + 2)};
+}
+
+/// The same number of the refined study in a converged check's numbers: the same quantity
+/// and frame, of a case whose label is ours with a suffix ("dam-break/sph-eulerian-dt" for
+/// "dam-break/sph-eulerian"), the shortest such label when several (the check of
+/// "…-wall-particles" is "…-wall-particles-dt", not ours); an exact name first.
+static const FindingNumber* refined_counterpart(const FindingNumber& n,
+                                         const std::vector<FindingNumber>& theirs) {
+  for (const auto& x : theirs)
+    if (x.name == n.name) return &x;
+  const NumberName ours = split_number_name(n.name);
+  if (ours.what.empty()) return nullptr;
+  const FindingNumber* best = nullptr;
+  std::size_t best_len = std::string::npos;
+  for (const auto& x : theirs) {
+    const NumberName t = split_number_name(x.name);
+    if (t.what != ours.what || t.frame != ours.frame) continue;
+    if (t.label.rfind(ours.label + "-", 0) != 0) continue;
+    if (t.label.size() < best_len) best = &x, best_len = t.label.size();
+  }
+  return best;
+}
+
+/// A finding's uncertainty per number its verdict rests on: from the number's own levels
+/// (three or more: the GCI; two: with its formal order, F_s = 3), or, a number read at one
+/// resolution, from the same number in the first converged check that has it: two levels,
+/// F_s = 3, the check's refinement and order, U = 3 |ours − check| r^p / (r^p − 1).
+void finding_uncertainty(LedgerReadingOutcome& o) {
+  o.uncertainty.clear();
+  o.uncertainty_of.clear();
+  for (const FindingNumber& n : o.numbers) {
+    int finite = 0;
+    for (std::size_t i = 0; i < n.values.size() && i < n.h.size(); ++i)
+      finite += std::isfinite(n.values[i]) && std::isfinite(n.h[i]);
+    Uncertainty u;
+    if (finite >= 2) {
+      u = grid_uncertainty(n.h, n.values, n.order);
+      if (!u.known() && u.why_none.empty())
+        u.why_none = finite == 2 ? "two levels and no formal order" : "no estimate";
+    } else {
+      const double ours = n.values.empty() ? NAN : n.values.back();
+      for (const auto& c : o.checks) {
+        if (c.check->kind != LedgerCheck::Kind::converged) continue;
+        const FindingNumber* m = refined_counterpart(n, c.numbers);
+        if (!m || m->values.empty() || !std::isfinite(m->values.back()) || !std::isfinite(ours))
+          continue;
+        const double rp = std::pow(c.check->refinement, c.check->order);
+        u.levels = 2;
+        u.value = ours;
+        u.order = c.check->order;
+        u.assumed_order = true;
+        u.absolute = 3 * std::abs(ours - m->values.back()) * rp / (rp - 1);
+        u.gci = ours != 0 ? u.absolute / std::abs(ours) : NAN;
+        u.cls = ConvergenceClass::two_levels;
+        u.method = fmt::format("GCI, 2 levels, F_s = 3 (against {})", c.check->route);
+        break;
+      }
+      if (!u.known())
+        u.why_none = std::isfinite(ours) ? "one resolution and no converged check of this number"
+                                         : "not measured";
+    }
+    o.uncertainty.push_back(u);
+    o.uncertainty_of.push_back(n.name);
+  }
+}
+
+}  // namespace ledger_internal
+
+namespace {
+
 void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& checks,
                      const Registries& catalogue, const Manifest& manifest,
                      const std::map<std::string, CaseOutcome>& ran) {
@@ -419,6 +508,7 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
     c.check = &check;
     c.values = m.ours;
     c.ours_text = m.ours_text.empty() ? m.why : m.ours_text;
+    c.numbers = m.numbers;
     c.verdict = m.verdict;
     c.agrees = check_agrees(c, o);
     const bool ran_check = compared_verdict(m.verdict) || m.verdict == kNotReached;
@@ -486,10 +576,12 @@ void evaluate_checks(LedgerReadingOutcome& o, const std::vector<LedgerCheck>& ch
       o.paper_inside[i] = within_uncertainty(o.ours[i], o.uncertainty[i], row.paper[i],
                                              row.tolerance, row.compare == CompareBy::ratio ||
                                                                 row.bound != LedgerRow::Bound::none);
+  } else if (row.kind == LedgerRow::Kind::finding && !o.numbers.empty()) {
+    finding_uncertainty(o);
   } else {
     Uncertainty none;
     none.why_none = row.kind == LedgerRow::Kind::finding
-                        ? "a finding: its verdict, not a number (its numbers are in ours)"
+                        ? "a finding whose check names no number (its numbers are in ours)"
                         : "an open row";
     o.uncertainty = {none};
   }

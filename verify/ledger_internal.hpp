@@ -41,5 +41,9 @@ const ManifestCase* find_case(const Manifest& m, const std::string& id);
 bool compared_verdict(const std::string& v);
 /// Whether a measure is a rate (l2_rate, h1_rate, energy_rate).
 bool is_rate_measure(const std::string& m);
+/// A finding's uncertainty, one per number its verdict rests on (`o.numbers`), into
+/// `o.uncertainty` and `o.uncertainty_of`: the GCI from the number's own levels, or against the
+/// same number in the first converged check when it was read at one resolution.
+void finding_uncertainty(LedgerReadingOutcome& o);
 
 }  // namespace mfv::ledger_internal

@@ -30,9 +30,14 @@ std::string uncertainty_text(const LedgerEntry& e) {
   std::vector<std::string> parts;
   for (std::size_t i = 0; i < c.uncertainty.size(); ++i) {
     const Uncertainty& u = c.uncertainty[i];
+    // A finding's uncertainties are of the numbers its verdict rests on: each named.
+    const std::string of = i < c.uncertainty_of.size() ? c.uncertainty_of[i] + " " : "";
     if (!u.known()) {
-      parts.push_back(e.row->kind == LedgerRow::Kind::finding ? "– (a finding)"
-                                                               : "– (" + u.why_none + ")");
+      parts.push_back(of + "– (" + u.why_none + ")");
+      continue;
+    }
+    if (!of.empty()) {
+      parts.push_back(fmt::format("{}{:.4g} {}", of, u.value, u.text()));
       continue;
     }
     std::string t = u.text();
@@ -347,12 +352,33 @@ std::string ledger_section(const LedgerRow& row) {
   return part + s.substr(at, end - at);
 }
 
+UncertaintyCoverage uncertainty_coverage(const std::vector<LedgerEntry>& entries) {
+  UncertaintyCoverage c;
+  for (const auto& e : entries) {
+    if (e.row->role == LedgerRow::Role::check || e.evidence != kEvidenceConverged) continue;
+    ++c.converged;
+    const auto& u = e.readings[e.chosen].uncertainty;
+    const auto known = std::count_if(u.begin(), u.end(), [](const Uncertainty& x) {
+      return x.known();
+    });
+    c.some += known > 0;
+    c.every += !u.empty() && known == static_cast<std::ptrdiff_t>(u.size());
+  }
+  return c;
+}
+
 std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
   std::string md = "## Counts by paper and section\n\n" + counts_markdown(entries, true) +
                    "\nEvidence: **independent** (a second computation by another route agrees "
                    "within the row's tolerance), **converged** (a finer resolution, quadrature or "
                    "time step moves ours by less than the tolerance), **single run** (no check "
                    "agrees, or none exists).\n\n";
+  const UncertaintyCoverage cov = uncertainty_coverage(entries);
+  md += fmt::format(
+      "Uncertainty: of the {} claim rows with converged evidence, {} carry a discretization "
+      "uncertainty (GCI, observed order, extrapolated value) for at least one of their numbers "
+      "and {} for every one; the others say why none.\n\n",
+      cov.converged, cov.some, cov.every);
   for (const auto& p : paper_order()) {
     std::vector<const LedgerEntry*> mine;
     for (const auto& e : entries)
@@ -394,7 +420,8 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
   std::string out =
       "id,paper_id,section,source,claim,measured_by,paper,ours,comparison,tolerance,compare,"
       "verdict,evidence,reading,readings_tried,checks,gap_reason,uncertainty,observed_order,"
-      "extrapolated,gci,convergence_class,paper_inside_uncertainty,uncertainty_why_none\n";
+      "extrapolated,gci,convergence_class,paper_inside_uncertainty,uncertainty_why_none,"
+      "uncertainty_of\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     std::vector<std::string> tried, checks;
@@ -446,7 +473,9 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
       in.push_back(i < c.paper_inside.size() ? (c.paper_inside[i] ? "yes" : "no") : "");
       why.push_back(q.why_none);
     }
-    for (const auto* col : {&u, &p, &x, &g, &k, &in, &why})
+    using Column = const std::vector<std::string>*;
+    for (Column col : {Column{&u}, Column{&p}, Column{&x}, Column{&g}, Column{&k}, Column{&in},
+                       Column{&why}, Column{&c.uncertainty_of}})
       fields.push_back(fmt::format("{}", fmt::join(*col, ";")));
     std::vector<std::string> quoted;
     for (const auto& f : fields) quoted.push_back(csv_field(f));

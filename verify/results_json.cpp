@@ -485,6 +485,19 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       for (const Uncertainty& u : c.uncertainty) us.push_back(uncertainty_json(u));
       r["uncertainty"] = us;
       r["paper_inside"] = c.paper_inside;
+      if (row.kind == LedgerRow::Kind::finding) {
+        r["uncertainty_of"] = c.uncertainty_of;
+        json numbers = json::array();
+        auto finite_or_null = [](const std::vector<double>& xs) {
+          json a = json::array();
+          for (double x : xs) a.push_back(std::isfinite(x) ? json(x) : json(nullptr));
+          return a;
+        };
+        for (const FindingNumber& n : c.numbers)
+          numbers.push_back(
+              {{"name", n.name}, {"h", finite_or_null(n.h)}, {"values", finite_or_null(n.values)}});
+        r["numbers"] = numbers;
+      }
       if (e.source) r["source_group"] = e.source->name;
     }
     r["role"] = row.role == LedgerRow::Role::check ? "check" : "claim";
@@ -563,9 +576,12 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
     r["readings"] = readings;
     rows.push_back(std::move(r));
   }
+  const UncertaintyCoverage cov = uncertainty_coverage(entries);
   return {{"ledger_file", ledger.path.string()},
           {"counts", counts},
           {"check_counts", check_counts},
+          {"uncertainty_coverage",
+           {{"converged", cov.converged}, {"some", cov.some}, {"every", cov.every}}},
           {"rows", rows}};
 }
 

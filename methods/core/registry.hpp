@@ -50,7 +50,14 @@ class Registry {
   /// Resolves `params` against the plugin's schema (refusing unknown keys) and builds it.
   std::unique_ptr<T> create(const std::string& name, const Params& params = {}) const {
     const Entry& e = entry(name);
-    return e.factory(params.resolve(e.schema, fmt::format("{} '{}'", kind_, name)));
+    std::unique_ptr<T> made =
+        e.factory(params.resolve(e.schema, fmt::format("{} '{}'", kind_, name)));
+    // A plugin's factory that returns null would be dereferenced by every caller.
+    if (!made)
+      throw InputError(fmt::format("{} '{}': its factory built nothing (a null pointer); a "
+                                   "factory returns the object or throws naming what is wrong",
+                                   kind_, name));
+    return made;
   }
 
   /// Builds `name` as the derived type U (e.g. a problem as the definition an analysis
