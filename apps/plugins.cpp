@@ -224,13 +224,16 @@ std::string load_ends_the_process(const std::string& resolved) {
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  const char* where = "(in its static initializers, mfv_plugin_abi or mfv_plugin_register)";
   if (n == 1) return {};
   if (WIFSIGNALED(status))
-    return fmt::format("it was killed by signal {} ({})", WTERMSIG(status),
-                       strsignal(WTERMSIG(status)));
-  if (WIFEXITED(status)) return fmt::format("it ended the process with exit status {}",
-                                            WEXITSTATUS(status));
-  return "it ended the process";
+    return fmt::format("was killed by signal {} ({}) while it was being loaded {}",
+                       WTERMSIG(status), strsignal(WTERMSIG(status)), where);
+  if (WIFEXITED(status))
+    return fmt::format("called exit() while it was being loaded {} (or _exit: a load in a "
+                       "child process ended with exit status {})",
+                       where, WEXITSTATUS(status));
+  return fmt::format("ended the process while it was being loaded {}", where);
 }
 
 template <class Hook>
@@ -280,10 +283,8 @@ Plugins::Plugins(const std::vector<std::filesystem::path>& paths) {
                                    "rebuild it or copy it again; {}",
                                    given, cut, kHowToBuild));
     if (const std::string ended = load_ends_the_process(resolved); !ended.empty())
-      throw InputError(fmt::format("plugin '{}' cannot be loaded: {} while it was being loaded "
-                                   "(in its static initializers, mfv_plugin_abi or "
-                                   "mfv_plugin_register); a plugin's registration must return, "
-                                   "and report a failure by throwing std::runtime_error",
+      throw InputError(fmt::format("plugin '{}' {}; a plugin's registration must return, and "
+                                   "report a failure by throwing std::runtime_error",
                                    given, ended));
     const LoadingPlugin loading(given);
 
