@@ -80,58 +80,61 @@ std::function<void(Args...)> naming(const std::string& plugin, std::function<voi
   };
 }
 
-/// The library being loaded, for refuse_exit_while_loading: process-wide because exit
+/// The library being loaded, for refuse_plugin_exit: process-wide because exit
 /// handlers take no argument; written only while Plugins' constructor loads a library.
 std::string& plugin_being_loaded() {
   static std::string name;
   return name;
 }
 
-/// A plugin that calls exit() while mfv loads it (in its static initializers or its entry
-/// point) ends mfv with rc 2 naming it, not with the plugin's own status: exit(0) would make a
-/// verify that ran nothing pass.
-void refuse_exit_while_loading() {
-  const std::string& p = plugin_being_loaded();
-  if (p.empty()) return;
-  std::fprintf(stderr,
-               "mfv: input error: plugin '%s' called exit() while it was being loaded (in its "
-               "static initializers or mfv_plugin_register); a plugin's registration must "
-               "return, and report a failure by throwing std::runtime_error\n",
-               p.c_str());
-  std::fflush(stderr);
-  std::_Exit(2);
-}
-
-/// The plugins loaded while a command runs, for refuse_exit_during_command ("" outside one):
-/// process-wide for the same reason as plugin_being_loaded.
+/// The plugins loaded while a command runs ("" outside one): process-wide for the same
+/// reason as plugin_being_loaded.
 std::string& plugins_of_running_command() {
   static std::string names;
   return names;
 }
 
-void refuse_exit_during_command() {
-  const std::string& p = plugins_of_running_command();
-  if (p.empty()) return;
-  std::fprintf(stderr,
-               "mfv: error: something called exit() while the command ran; mfv's commands "
-               "return, so it was a plugin's code (loaded: %s); the command did not finish\n",
-               p.c_str());
-  std::fflush(stderr);
-  std::_Exit(1);
+/// exit() called by a plugin ends mfv naming it, not with the plugin's own status: exit(0)
+/// would make a verify that ran nothing pass. While mfv loads a plugin (its static
+/// initializers or mfv_plugin_register): rc 2 naming that library; while a command runs
+/// (mfv's commands return, so the call came from a plugin's code): rc 1 naming the plugins.
+void refuse_plugin_exit() {
+  if (const std::string& p = plugin_being_loaded(); !p.empty()) {
+    std::fprintf(stderr,
+                 "mfv: input error: plugin '%s' called exit() while it was being loaded (in "
+                 "its static initializers or mfv_plugin_register); a plugin's registration "
+                 "must return, and report a failure by throwing std::runtime_error\n",
+                 p.c_str());
+    std::fflush(stderr);
+    std::_Exit(2);
+  }
+  if (const std::string& p = plugins_of_running_command(); !p.empty()) {
+    std::fprintf(stderr,
+                 "mfv: error: something called exit() while the command ran; mfv's commands "
+                 "return, so it was a plugin's code (loaded: %s); the command did not finish\n",
+                 p.c_str());
+    std::fflush(stderr);
+    std::_Exit(1);
+  }
+}
+
+/// Registers refuse_plugin_exit once, after the names' storage (statics are destroyed in the
+/// reverse order of their registration, so they outlive the handler's run at exit).
+void refuse_plugin_exit_from_now_on() {
+  static const bool registered = [] {
+    plugin_being_loaded();
+    plugins_of_running_command();
+    std::atexit(refuse_plugin_exit);
+    std::at_quick_exit(refuse_plugin_exit);
+    return true;
+  }();
+  (void)registered;
 }
 
 /// Clears plugin_being_loaded however the load ends.
 struct LoadingPlugin {
   explicit LoadingPlugin(const std::string& name) {
-    static const bool registered = [] {
-      // The name's storage first: statics are destroyed in the reverse order of their
-      // registration, so it outlives the handler's run at exit.
-      plugin_being_loaded();
-      std::atexit(refuse_exit_while_loading);
-      std::at_quick_exit(refuse_exit_while_loading);
-      return true;
-    }();
-    (void)registered;
+    refuse_plugin_exit_from_now_on();
     plugin_being_loaded() = name;
   }
   ~LoadingPlugin() { plugin_being_loaded().clear(); }
@@ -179,7 +182,7 @@ std::string truncated_elf(const std::filesystem::path& path) {
 /// outlive an _exit or a crash in the plugin's own code, and exit status 0 would make a verify
 /// that ran nothing pass. "" when the child's load returned (or threw: the load in mfv then
 /// names the exception); otherwise how the child ended. The plugin's static initializers
-/// therefore run twice (docs/extending.md says so).
+/// therefore run twice (docs/architecture.md says so).
 std::string load_ends_the_process(const std::string& resolved) {
   int fd[2];
   if (pipe2(fd, O_CLOEXEC) != 0) return {};  // no probe possible: mfv loads it as before
@@ -245,13 +248,7 @@ void append(std::vector<Hook>& to, const std::vector<Hook>& from, const std::str
 
 CommandExitGuard::CommandExitGuard(const Plugins& plugins) {
   if (plugins.loaded().empty()) return;
-  static const bool registered = [] {
-    plugins_of_running_command();
-    std::atexit(refuse_exit_during_command);
-    std::at_quick_exit(refuse_exit_during_command);
-    return true;
-  }();
-  (void)registered;
+  refuse_plugin_exit_from_now_on();
   std::vector<std::string> names;
   for (const auto& l : plugins.loaded()) names.push_back(std::filesystem::path(l).filename());
   plugins_of_running_command() = fmt::format("{}", fmt::join(names, ", "));

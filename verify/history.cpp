@@ -108,6 +108,20 @@ CREATE TABLE verdicts(
 CREATE INDEX vals_by_quantity ON vals(quantity, run);
 )";
 
+/// A history's user_version that is not mfv's: negative, or 0 on a file that existed
+/// (someone else's database), or newer than this mfv's schema.
+void refuse_version(const fs::path& file, long version, bool existed) {
+  if (version < 0 || (existed && version == 0))
+    throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
+                                 "(user_version {}); give another --history (mfv never "
+                                 "rewrites it)",
+                                 file.string(), version));
+  if (version > kHistorySchema)
+    throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; use a "
+                                 "newer mfv or another --history",
+                                 file.string(), version, kHistorySchema));
+}
+
 }  // namespace
 
 HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
@@ -145,15 +159,7 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
       const std::int32_t version = static_cast<std::int32_t>(
           (std::uint32_t(header[60]) << 24) | (std::uint32_t(header[61]) << 16) |
           (std::uint32_t(header[62]) << 8) | std::uint32_t(header[63]));
-      if (version <= 0)
-        throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
-                                     "(user_version {}); give another --history (mfv never "
-                                     "rewrites it)",
-                                     file.string(), version));
-      if (version > kHistorySchema)
-        throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; "
-                                     "use a newer mfv or another --history",
-                                     file.string(), version, kHistorySchema));
+      refuse_version(file, version, true);
     }
   }
   // Created only where no file exists (SQLITE_OPEN_CREATE only then).
@@ -173,15 +179,7 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
     Statement v(db_, "PRAGMA user_version", path_);
     v.step();
     const long version = v.integer(0);
-    if (version < 0 || (existed && version == 0))
-      throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
-                                   "(user_version {}); give another --history (mfv never "
-                                   "rewrites it)",
-                                   file.string(), version));
-    if (version > kHistorySchema)
-      throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; use a "
-                                   "newer mfv or another --history",
-                                   file.string(), version, kHistorySchema));
+    refuse_version(file, version, existed);
     Statement check(db_, "PRAGMA quick_check", path_);
     if (check.step() && check.text(0) != "ok")
       throw InputError(fmt::format("history '{}' is damaged ({}); move it away (mfv never "
