@@ -45,10 +45,14 @@ std::string counts_block(const Catalogue& c, const Manifest& m) {
     // By paper key (the source's first word: 000, 001, 003, 004); rows whose source is
     // another reference (Martin & Moyce, Lamé, …) counted apart.
     std::map<std::string, int> by_paper;
-    int other = 0, checks = 0, claims = 0;
+    int other = 0, checks = 0, costs = 0, claims = 0;
     for (const auto& r : l.rows) {
       if (r.role == LedgerRow::Role::check) {
         ++checks;
+        continue;
+      }
+      if (r.role == LedgerRow::Role::cost) {
+        ++costs;
         continue;
       }
       ++claims;
@@ -59,8 +63,10 @@ std::string counts_block(const Catalogue& c, const Manifest& m) {
     std::vector<std::string> parts;
     for (const auto& [paper, n] : by_paper) parts.push_back(fmt::format("{} of {}", n, paper));
     if (other > 0) parts.push_back(fmt::format("{} of other references", other));
-    ledger = fmt::format("; its ledger `{}` holds {} claims ({}) and {} of our own checks",
-                         m.ledger.string(), claims, fmt::join(parts, ", "), checks);
+    ledger = fmt::format(
+        "; its ledger `{}` holds {} claims ({}), {} claims about CPU time (counted apart) and {} "
+        "of our own checks",
+        m.ledger.string(), claims, fmt::join(parts, ", "), costs, checks);
   }
   return fmt::format("`{}` runs {} cases nightly and {} more with `--full` ({} in all){}.\n",
                      m.path.string(), nightly, full_only, nightly + full_only, ledger);

@@ -276,6 +276,8 @@ INSTANTIATE_TEST_SUITE_P(
                std::string(kGoodRows) +
                    "[[source]]\nname = \"T\"\nquote = \"q\"\nrows = [\"t1-fem\"]\nreading = \"z\"\n",
                "does not try"},
+        BadRow{"unknown role", replace(kGoodRows, "id = \"rate\"", "id = \"rate\"\nrole = \"timing\""),
+               "is not claim, check or cost"},
         BadRow{"row in two sources",
                std::string(kGoodRows) +
                    "[[source]]\nname = \"T\"\nquote = \"q\"\nrows = [\"t1-fem\"]\n"
@@ -302,6 +304,35 @@ StudyResult fake_study(const std::string& problem, std::vector<int> nodes,
   }
   s.rates.fitted["L2"] = l2_rate;
   return s;
+}
+
+// A paper's claim about CPU time (role cost) and our own check (role check) have their own
+// counts and sections: the claim counts, which a run of the same commit repeats, leave out
+// verdicts that move with the machine's load.
+TEST(LedgerRoles, ClaimsAboutCpuTimeAndOurOwnChecksAreCountedApart) {
+  const Fixture f(replace(replace(kGoodRows, "id = \"rate\"", "id = \"rate\"\nrole = \"cost\""),
+                          "id = \"t1-fem\"", "id = \"t1-fem\"\nrole = \"check\""));
+  const Ledger l = f.load();
+  const StudyResult close = fake_study("laplace-tanh", {21, 41}, {3.32, 6.03}, 1.97);
+  const auto entries = evaluate_ledger(l, f.catalogue, f.manifest, {{"fem", {&close, ""}}});
+  EXPECT_EQ(count_verdicts(entries).at(kReproduced), 0);
+  EXPECT_EQ(count_verdicts(entries, LedgerRow::Role::cost).at(kReproduced), 1);
+  EXPECT_EQ(count_verdicts(entries, LedgerRow::Role::check).at(kReproduced), 1);
+  const std::string line = verdict_counts_line(entries);
+  EXPECT_NE(line.find("claims about CPU time (this machine's, apart): 1 reproduced of 1"),
+            std::string::npos)
+      << line;
+  EXPECT_NE(line.find("our own checks: 1 reproduced of 1"), std::string::npos) << line;
+  const std::string md = ledger_markdown(entries);
+  EXPECT_NE(md.find("## Claims about CPU time"), std::string::npos);
+  const std::string csv = ledger_csv(entries);
+  EXPECT_NE(csv.find(",uncertainty_of,role\n"), std::string::npos);
+  EXPECT_NE(csv.find(",cost\n"), std::string::npos);
+  EXPECT_NE(csv.find(",check\n"), std::string::npos);
+  EXPECT_NE(csv.find(",claim\n"), std::string::npos);
+  // The paper of a claim about CPU time stays its paper in the machine-readable files.
+  EXPECT_EQ(ledger_paper(*entries[2].row), "004");
+  EXPECT_EQ(entries[2].row->id, "rate");
 }
 
 TEST(Ledger, VerdictsComeFromTheRun) {

@@ -277,6 +277,38 @@ TEST_F(Nightly, EachRunIsAppendedToTheHistoryWhichAnswersOverTime) {
   EXPECT_EQ(HistoryStore(file).runs().size(), 2u);
 }
 
+// Two nightly jobs that create one new history at once (issue 45: one saw the other's file
+// before its schema was written and refused it as "not an mfv history", or met "database is
+// locked"): a history appears under its name whole, and the loser opens the winner's.
+TEST_F(Nightly, TwoWritersCreatingOneNewHistoryBothOpenIt) {
+  for (int round = 0; round < 25; ++round) {
+    const fs::path file = dir_ / fmt::format("new-{}.sqlite", round);
+    std::atomic<int> ready{0};
+    std::string errors[2];
+    auto open = [&](int k) {
+      ++ready;
+      while (ready.load() < 2) {
+      }
+      try {
+        HistoryStore h(file);
+        h.check_writable();
+      } catch (const std::exception& e) {
+        errors[k] = e.what();
+      }
+    };
+    std::thread a(open, 0), b(open, 1);
+    a.join();
+    b.join();
+    EXPECT_EQ(errors[0], "") << "round " << round;
+    EXPECT_EQ(errors[1], "") << "round " << round;
+    EXPECT_TRUE(HistoryStore(file).runs().empty());
+  }
+  // No private file of a creation is left beside the histories.
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().filename().string().rfind(".mfv-history-new-", 0), std::string::npos)
+        << e.path();
+}
+
 TEST_F(Nightly, AHistoryFileThatIsNotOursIsRefusedAndKept) {
   const fs::path junk = write("junk.sqlite", "not a database at all, just text\n");
   EXPECT_THROW(HistoryStore{junk}, InputError);

@@ -1,6 +1,8 @@
 #include "verify/history.hpp"
 
 #include <sqlite3.h>
+#include <fcntl.h>
+#include <stdio.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -108,10 +110,10 @@ CREATE TABLE verdicts(
 CREATE INDEX vals_by_quantity ON vals(quantity, run);
 )";
 
-/// A history's user_version that is not mfv's: negative, or 0 on a file that existed
-/// (someone else's database), or newer than this mfv's schema.
-void refuse_version(const fs::path& file, long version, bool existed) {
-  if (version < 0 || (existed && version == 0))
+/// A history's user_version that is not mfv's: negative, or 0 (someone else's database:
+/// mfv writes its version as it creates a history), or newer than this mfv's schema.
+void refuse_version(const fs::path& file, long version) {
+  if (version <= 0)
     throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write "
                                  "(user_version {}); give another --history (mfv never "
                                  "rewrites it)",
@@ -120,6 +122,70 @@ void refuse_version(const fs::path& file, long version, bool existed) {
     throw InputError(fmt::format("history '{}' has schema {}, newer than this mfv's {}; use a "
                                  "newer mfv or another --history",
                                  file.string(), version, kHistorySchema));
+}
+
+/// Creates a new history at `file` whole: its schema is written to a private file in the
+/// same directory, which then takes the name with link() (renameat2 without replacing where
+/// the file system has no hard links), so a second writer never sees a half-made history
+/// (two nightly jobs creating one history at once: one saw a 0-byte file and refused it, the
+/// other "database is locked"). Returns false when another writer's history took the name
+/// first: that one is used.
+bool create_history_whole(const fs::path& file) {
+  std::string tmpl = (file.parent_path().empty() ? fs::path(".") : file.parent_path()) /
+                     (".mfv-history-new-XXXXXX");
+  const int fd = mkstemp(tmpl.data());
+  if (fd < 0)
+    throw InputError(fmt::format("history '{}' cannot be created ({}); give another --history "
+                                 "or run with --no-history",
+                                 file.string(), std::strerror(errno)));
+  // mkstemp's file is the owner's alone (0600); a history is created as any file would be,
+  // 0666 less the umask (read from /proc, since umask() can only be read by setting it).
+  mode_t mask = 022;
+  {
+    std::ifstream status("/proc/self/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("Umask:", 0) == 0) mask = static_cast<mode_t>(std::stoul(line.substr(6), nullptr, 8));
+  }
+  fchmod(fd, 0666 & ~mask);
+  close(fd);
+  const fs::path tmp = tmpl;
+  struct Remove {
+    fs::path p;
+    ~Remove() {
+      std::error_code ec;
+      fs::remove(p, ec);
+    }
+  } remove_tmp{tmp};
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(tmp.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
+    const std::string msg = db ? sqlite3_errmsg(db) : "out of memory";
+    sqlite3_close(db);
+    throw InputError(fmt::format("history '{}' cannot be created ({}); give another --history",
+                                 file.string(), msg));
+  }
+  try {
+    exec(db, "BEGIN", file);
+    exec(db, kSchemaV1, file);
+    exec(db, fmt::format("PRAGMA user_version = {}", kHistorySchema).c_str(), file);
+    exec(db, "COMMIT", file);
+  } catch (...) {
+    sqlite3_close(db);
+    throw;
+  }
+  sqlite3_close(db);
+  if (link(tmp.c_str(), file.c_str()) == 0) return true;
+  int why = errno;
+  if (why == EEXIST) return false;
+  if (why == EPERM || why == ENOTSUP || why == EOPNOTSUPP) {
+    // No hard links here (some FUSE and FAT file systems): a rename that never replaces.
+    if (renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE) == 0)
+      return true;
+    why = errno;
+    if (why == EEXIST) return false;
+  }
+  throw InputError(fmt::format("history '{}' cannot be created ({}); give another --history "
+                               "or run with --no-history",
+                               file.string(), std::strerror(why)));
 }
 
 }  // namespace
@@ -131,13 +197,15 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
     throw InputError(fmt::format("history '{}' exists and is not a regular file; give a file "
                                  "path for --history",
                                  file.string()));
-  const bool existed = st.type() != fs::file_type::not_found;
-  if (!existed) {
+  if (st.type() == fs::file_type::not_found) {
     const fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
     if (!fs::is_directory(dir, ec))
       throw InputError(fmt::format("history '{}': the directory '{}' does not exist; create it "
                                    "or give another --history",
                                    file.string(), dir.string()));
+    // Made whole under its name, or another writer's made first: either way opened below
+    // as an existing history, its header and version checked.
+    create_history_whole(file);
   } else if (const auto size = fs::file_size(file, ec); !ec && size < 512) {
     // mfv writes a history's schema as it creates the file (a page of 4 KiB at least): a
     // shorter existing file is someone else's (an empty one made by `touch`, a stub), and a
@@ -147,7 +215,7 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
                                  "another --history",
                                  file.string(), size));
   }
-  if (existed) {
+  {
     // The version in the file's own header (bytes 60-63, big-endian), read before SQLite
     // opens it: opening a database recovers its hot journal or checkpoints its write-ahead
     // log, which rewrites someone else's file before mfv could tell it is not a history.
@@ -159,13 +227,11 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
       const std::int32_t version = static_cast<std::int32_t>(
           (std::uint32_t(header[60]) << 24) | (std::uint32_t(header[61]) << 16) |
           (std::uint32_t(header[62]) << 8) | std::uint32_t(header[63]));
-      refuse_version(file, version, true);
+      refuse_version(file, version);
     }
   }
-  // Created only where no file exists (SQLITE_OPEN_CREATE only then).
-  if (sqlite3_open_v2(file.c_str(), &db_,
-                      SQLITE_OPEN_READWRITE | (existed ? 0 : SQLITE_OPEN_CREATE),
-                      nullptr) != SQLITE_OK) {
+  // Never created here: a new history was made whole above.
+  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
     db_ = nullptr;
@@ -179,28 +245,14 @@ HistoryStore::HistoryStore(const fs::path& file) : path_(file) {
     Statement v(db_, "PRAGMA user_version", path_);
     v.step();
     const long version = v.integer(0);
-    refuse_version(file, version, existed);
+    refuse_version(file, version);
     Statement check(db_, "PRAGMA quick_check", path_);
     if (check.step() && check.text(0) != "ok")
       throw InputError(fmt::format("history '{}' is damaged ({}); move it away (mfv never "
                                    "replaces it) and a new history starts",
                                    file.string(), check.text(0)));
-    if (version < kHistorySchema) {
-      // Migrations, one per version, in a transaction each (today: 0 → 1, the first schema;
-      // a version-0 file holding tables is someone else's database).
-      exec(db_, "BEGIN IMMEDIATE", path_);
-      Statement tables(db_, "SELECT count(*) FROM sqlite_master", path_);
-      tables.step();
-      if (version == 0 && tables.integer(0) > 0) {
-        exec(db_, "ROLLBACK", path_);
-        throw InputError(fmt::format("history '{}' is a SQLite database mfv did not write; give "
-                                     "another --history",
-                                     file.string()));
-      }
-      if (version == 0) exec(db_, kSchemaV1, path_);
-      exec(db_, fmt::format("PRAGMA user_version = {}", kHistorySchema).c_str(), path_);
-      exec(db_, "COMMIT", path_);
-    }
+    // Migrations from an older schema, one per version in a transaction each, go here when
+    // there is a second schema (today every mfv history is version 1, kHistorySchema).
   } catch (...) {
     sqlite3_close(db_);
     db_ = nullptr;

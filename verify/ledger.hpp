@@ -171,9 +171,13 @@ struct LedgerRow {
   /// range: the claim is an interval, paper = [low, high] at one resolution; ours within the
   /// interval widened by the tolerance (relative) at each end.
   enum class Bound { none, at_least, at_most, range } bound = Bound::none;
-  /// A claim of a paper (counted per paper), or our own check of the suite (a closed form, a
-  /// column at rest: listed and counted apart, never among the papers' claims).
-  enum class Role { claim, check } role = Role::claim;
+  /// A claim of a paper (counted per paper), our own check of the suite (a closed form, a
+  /// column at rest: listed and counted apart, never among the papers' claims), or a paper's
+  /// claim about CPU time (cost): judged on this machine's CPU seconds, whose ratios move
+  /// with its load (two runs of one commit here: 001-9.3-eulerian-slower's Eulerian
+  /// efg-ni/sph 1.39 and 1.59 against its bound 1.5), so listed and counted apart from the
+  /// claims judged on computed numbers, whose counts a run of the same commit repeats.
+  enum class Role { claim, check, cost } role = Role::claim;
   std::string measure;  ///< measure rows
   /// Measure rows: the earlier row whose chosen case this row reads its measure on, under the
   /// reading of the same name (a figure's L2 and H1 claims judged on one study, issue 44);

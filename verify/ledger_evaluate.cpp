@@ -707,10 +707,15 @@ std::string verdict_counts_line(const std::vector<LedgerEntry>& entries) {
     }
     return fmt::format("{}", fmt::join(parts, ", "));
   };
-  int claims = 0, checks = 0;
+  int claims = 0, costs = 0, checks = 0;
   const std::string c = line(LedgerRow::Role::claim, claims);
+  const std::string t = line(LedgerRow::Role::cost, costs);
   const std::string k = line(LedgerRow::Role::check, checks);
-  return fmt::format("{} of {} claims{}", c, claims,
+  return fmt::format("{} of {} claims{}{}", c, claims,
+                     costs > 0 ? fmt::format("; claims about CPU time (this machine's, apart): "
+                                             "{} of {}",
+                                             t, costs)
+                               : "",
                      checks > 0 ? fmt::format("; our own checks: {} of {}", k, checks) : "");
 }
 

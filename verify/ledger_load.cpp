@@ -588,9 +588,11 @@ Ledger load_ledger(const std::filesystem::path& path, const Manifest& manifest,
              "\"range\"");
     const std::string role = get_string(r, *t, "role", false, row.line);
     if (role == "check") row.role = LedgerRow::Role::check;
+    else if (role == "cost") row.role = LedgerRow::Role::cost;
     else if (!role.empty() && role != "claim")
-      r.fail(row.line, fmt::format("role = \"{}\" is not claim or check", role),
-             "write role = \"check\" for our own check of the suite (not a paper's claim)");
+      r.fail(row.line, fmt::format("role = \"{}\" is not claim, check or cost", role),
+             "write role = \"check\" for our own check of the suite (not a paper's claim), "
+             "role = \"cost\" for a paper's claim about CPU time");
 
     // The kind, and what it needs.
     const int kinds = !row.published_source.empty() + !row.measure.empty() + !finding.empty();

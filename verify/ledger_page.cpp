@@ -164,12 +164,20 @@ const std::map<std::string, std::string>& paper_titles() {
       {"003", "003 — Samaniego et al., stability of explicit enriched meshfree methods"},
       {"004", "004 — Liu et al., reproducing kernel and wavelet particle methods (I–III)"},
       {"other", "Other sources (closed forms, experiments)"},
+      {"cost", "Claims about CPU time (judged on this machine's CPU seconds, which move with "
+               "its load; counted apart)"},
       {"check", "Our own checks of the suite (not claims of a paper; counted apart)"}};
   return t;
 }
 
 std::vector<std::string> paper_order() {
-  return {"000", "001", "003", "004", "other", "check"};
+  return {"000", "001", "003", "004", "other", "cost", "check"};
+}
+
+/// The page's group of a row: its paper, or `cost` for a claim about CPU time (whose paper
+/// stays in ledger.csv's and ledger.json's paper_id).
+std::string ledger_group(const LedgerRow& row) {
+  return row.role == LedgerRow::Role::cost ? std::string("cost") : ledger_paper(row);
 }
 
 /// Verdict columns of the counts table; the rest (not reached, not run, not yet built) is
@@ -239,7 +247,7 @@ std::string counts_markdown(const std::vector<LedgerEntry>& entries, bool sectio
   std::map<std::string, std::vector<std::string>> section_order;
   Counts all;
   for (const auto& e : entries) {
-    const std::string p = ledger_paper(*e.row), s = ledger_section(*e.row);
+    const std::string p = ledger_group(*e.row), s = ledger_section(*e.row);
     per_paper[p].add(e);
     auto& order = section_order[p];
     if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
@@ -262,7 +270,7 @@ std::string counts_markdown(const std::vector<LedgerEntry>& entries, bool sectio
     }
   }
   auto cells = all.cells();
-  cells.insert(cells.begin(), "**all claims** (our own checks apart)");
+  cells.insert(cells.begin(), "**all claims** (CPU-time claims and our own checks apart)");
   return md + md_row(cells);
 }
 
@@ -355,7 +363,7 @@ std::string ledger_section(const LedgerRow& row) {
 UncertaintyCoverage uncertainty_coverage(const std::vector<LedgerEntry>& entries) {
   UncertaintyCoverage c;
   for (const auto& e : entries) {
-    if (e.row->role == LedgerRow::Role::check || e.evidence != kEvidenceConverged) continue;
+    if (e.row->role != LedgerRow::Role::claim || e.evidence != kEvidenceConverged) continue;
     ++c.converged;
     const auto& u = e.readings[e.chosen].uncertainty;
     const auto known = std::count_if(u.begin(), u.end(), [](const Uncertainty& x) {
@@ -382,7 +390,7 @@ std::string ledger_markdown(const std::vector<LedgerEntry>& entries) {
   for (const auto& p : paper_order()) {
     std::vector<const LedgerEntry*> mine;
     for (const auto& e : entries)
-      if (ledger_paper(*e.row) == p) mine.push_back(&e);
+      if (ledger_group(*e.row) == p) mine.push_back(&e);
     if (mine.empty()) continue;
     md += fmt::format("## {}\n\n", paper_titles().at(p));
     md += "| id | source | claim | paper | ours | ± uncertainty (order, class; paper inside?) | "
@@ -421,7 +429,7 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
       "id,paper_id,section,source,claim,measured_by,paper,ours,comparison,tolerance,compare,"
       "verdict,evidence,reading,readings_tried,checks,gap_reason,uncertainty,observed_order,"
       "extrapolated,gci,convergence_class,paper_inside_uncertainty,uncertainty_why_none,"
-      "uncertainty_of\n";
+      "uncertainty_of,role\n";
   for (const auto& e : entries) {
     const LedgerRow& row = *e.row;
     std::vector<std::string> tried, checks;
@@ -477,6 +485,9 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
     for (Column col : {Column{&u}, Column{&p}, Column{&x}, Column{&g}, Column{&k}, Column{&in},
                        Column{&why}, Column{&c.uncertainty_of}})
       fields.push_back(fmt::format("{}", fmt::join(*col, ";")));
+    fields.push_back(row.role == LedgerRow::Role::check  ? "check"
+                     : row.role == LedgerRow::Role::cost ? "cost"
+                                                         : "claim");
     std::vector<std::string> quoted;
     for (const auto& f : fields) quoted.push_back(csv_field(f));
     out += fmt::format("{}\n", fmt::join(quoted, ","));

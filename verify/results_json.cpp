@@ -432,6 +432,9 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
   json check_counts = json::object();
   for (const auto& [verdict, count] : count_verdicts(entries, LedgerRow::Role::check))
     check_counts[verdict] = count;
+  json cost_counts = json::object();
+  for (const auto& [verdict, count] : count_verdicts(entries, LedgerRow::Role::cost))
+    cost_counts[verdict] = count;
   json rows = json::array();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const LedgerEntry& e = entries[i];
@@ -500,7 +503,9 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       }
       if (e.source) r["source_group"] = e.source->name;
     }
-    r["role"] = row.role == LedgerRow::Role::check ? "check" : "claim";
+    r["role"] = row.role == LedgerRow::Role::check  ? "check"
+                : row.role == LedgerRow::Role::cost ? "cost"
+                                                    : "claim";
     r["paper_id"] = ledger_paper(row);
     r["section"] = ledger_section(row);
     if (!row.quote.empty()) r["quote"] = row.quote;
@@ -580,6 +585,7 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
   return {{"ledger_file", ledger.path.string()},
           {"counts", counts},
           {"check_counts", check_counts},
+          {"cost_counts", cost_counts},
           {"uncertainty_coverage",
            {{"converged", cov.converged}, {"some", cov.some}, {"every", cov.every}}},
           {"rows", rows}};
