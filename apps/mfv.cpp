@@ -12,6 +12,7 @@
 #include "dynamics/external_solver.hpp"
 #include "apps/commands.hpp"
 #include "apps/plugins.hpp"
+#include "apps/supervise.hpp"
 #include "reports/atomic.hpp"
 #include "methods/core/errors.hpp"
 #include "methods/core/names.hpp"
@@ -73,7 +74,9 @@ void add_vtk_policy(CLI::App* c, bool& vtk, bool& finest_only, const std::string
 }  // namespace
 
 int main(int argc, char** argv) {
-  // First, before any thread exists: an interrupted run removes its staging directory.
+  // A supervised child (apps/supervise.hpp) takes its channel out of the environment first.
+  mfv::adopt_supervision();
+  // Then, before any thread exists: an interrupted run removes its staging directory.
   mfv::install_staging_cleanup();
   // Under mpirun every rank runs the whole command (set-up and assembly are replicated; the
   // PETSc solves are distributed), so MPI starts first and rank 0 alone prints to stdout and
@@ -376,6 +379,13 @@ int main(int argc, char** argv) {
     std::vector<std::filesystem::path> plugin_files(plugin_paths.begin(), plugin_paths.end());
     if (*cmd_verify)
       for (const auto& p : mfv::load_manifest(ver.manifest).plugins) plugin_files.push_back(p);
+    // Plugins' code runs in a supervised child: a plugin's _exit() cannot make the command
+    // look finished.
+    if (!mpi) {
+      std::vector<std::string> names;
+      for (const auto& f : plugin_files) names.push_back(f.filename().string());
+      if (const auto code = mfv::supervise(argv, names)) return *code;
+    }
     const mfv::Plugins plugins(plugin_files);
     const mfv::CommandExitGuard exit_guard(plugins);
     // External solvers (issue 30): `external:<name>` for each solvers/<name>.toml found
@@ -454,6 +464,7 @@ int main(int argc, char** argv) {
   }
   if (!mpi) {
     if (!message.empty()) std::cerr << message << "\n";
+    mfv::report_finished(status);
     return status;
   }
   const mfv::petsc::Agreement agreed = mfv::petsc::finish(status);

@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "apps/plugin.hpp"
+#include "apps/supervise.hpp"
 #include "methods/core/errors.hpp"
 
 namespace mfv {
@@ -106,6 +107,7 @@ void refuse_plugin_exit() {
                  "must return, and report a failure by throwing std::runtime_error\n",
                  p.c_str());
     std::fflush(stderr);
+    report_finished(2);  // mfv's own verdict on the plugin: the supervisor ends with it
     std::_Exit(2);
   }
   if (const std::string& p = plugins_of_running_command(); !p.empty()) {
@@ -114,6 +116,7 @@ void refuse_plugin_exit() {
                  "return, so it was a plugin's code (loaded: %s); the command did not finish\n",
                  p.c_str());
     std::fflush(stderr);
+    report_finished(1);
     std::_Exit(1);
   }
 }
@@ -195,6 +198,7 @@ std::string load_ends_the_process(const std::string& resolved) {
   }
   if (pid == 0) {
     close(fd[0]);
+    forget_supervision();  // the probe is not the command: it never reports its end
     // What the plugin prints while loading is shown once, by the load in mfv.
     if (const int null = open("/dev/null", O_WRONLY); null >= 0) {
       dup2(null, 1);

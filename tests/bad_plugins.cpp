@@ -9,8 +9,14 @@
 ///   MFV_BAD_HOOK_INT   its kernel hook throws an int
 ///   MFV_BAD_FACTORY_INT a kernel whose factory throws an int when a method creates it
 ///   MFV_BAD_EXITS      its entry point calls exit(0)
+///   MFV_BAD_FACTORY_EXITS a kernel whose factory calls _exit(0) when a method creates it
+///                      (while a case runs: no handler can catch it in-process)
+///   MFV_BAD_FACTORY_CRASH a kernel whose factory dies of SIGSEGV when a method creates it
 ///   MFV_BAD_NAME       registers a kernel named "a,b=c"
 ///   MFV_BAD_EXTERNAL   registers a kernel named "external:pysph"
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdlib>
 
 #include "apps/plugin.hpp"
@@ -48,6 +54,20 @@ MFV_PLUGIN(plugin) {
   plugin.kernels.push_back([](mfv::KernelRegistry& r) {
     r.add("throws-int", "a kernel whose factory throws an int", {},
           [](const mfv::Params&) -> std::unique_ptr<mfv::Kernel> { throw 42; });
+  });
+}
+#elif defined(MFV_BAD_FACTORY_EXITS) || defined(MFV_BAD_FACTORY_CRASH)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry& r) {
+    r.add("ends-the-process", "a kernel whose factory ends the process", {},
+          [](const mfv::Params&) -> std::unique_ptr<mfv::Kernel> {
+#if defined(MFV_BAD_FACTORY_EXITS)
+            _exit(0);
+#else
+            std::raise(SIGSEGV);
+            return nullptr;
+#endif
+          });
   });
 }
 #elif defined(MFV_BAD_EXITS)

@@ -42,14 +42,15 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--mfv", required=True)
     ap.add_argument("--example", required=True)
-    ap.add_argument("--bad", nargs=11, required=True,
+    ap.add_argument("--bad", nargs=13, required=True,
                     metavar=("STALE", "CLASH", "UNDEFINED", "NO_ENTRY", "THROWS", "THROWS_INT",
-                             "HOOK_INT", "FACTORY_INT", "EXITS", "NAME", "EXTERNAL"))
+                             "HOOK_INT", "FACTORY_INT", "EXITS", "NAME", "EXTERNAL",
+                             "FACTORY_EXITS", "FACTORY_CRASH"))
     ap.add_argument("--work", required=True)
     a = ap.parse_args()
     mfv, ex = a.mfv, a.example
     (stale, clash, undefined, no_entry, throws, throws_int, hook_int, factory_int, exits,
-     bad_name, external) = a.bad
+     bad_name, external, factory_exits, factory_crash) = a.bad
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
 
@@ -147,6 +148,24 @@ def main():
     expect(mfv, "verify of a manifest whose plugin calls exit(0) is not a pass",
            ["verify", suite_exits, "--no-report", "--no-history"], 2,
            ["called exit() while it was being loaded"])
+    # A plugin's code that ends the process while a case runs: the command runs in a
+    # supervised child (apps/supervise.hpp), so _exit(0) is exit 1, never a pass, and a crash
+    # is named and still a crash.
+    ends = ["run", "mms-poisson-1d", "-m", "efg", "-p", "kernel=ends-the-process", "-n", "11"]
+    expect(mfv, "a kernel factory that calls _exit(0) while a case runs",
+           ["--plugin", factory_exits] + ends, 1,
+           ["ended with status 0 before it finished", "libmfv_bad_plugin_factory_exits.so"])
+    suite_ends = os.path.join(a.work, "ends.toml")
+    with open(suite_ends, "w") as f:
+        f.write(f'[suite]\nname = "ends"\nplugins = ["{factory_exits}"]\n[[case]]\n'
+                'id = "mms/efg-ends"\nproblem = "mms-poisson-1d"\nmethod = "efg"\n'
+                'method_params = { kernel = "ends-the-process" }\nnodes = [11, 21]\n')
+    expect(mfv, "verify of a case whose plugin kernel calls _exit(0) is not a pass",
+           ["verify", suite_ends, "--no-report", "--no-history"], 1,
+           ["before it finished", "libmfv_bad_plugin_factory_exits.so"])
+    expect(mfv, "a kernel factory that dies of SIGSEGV is named and still a crash",
+           ["--plugin", factory_crash] + ends, -11,
+           ["killed by signal 11", "libmfv_bad_plugin_factory_crash.so"])
     expect(mfv, "a kernel named 'a,b=c'", ["--plugin", bad_name, "list"], 2,
            ["the kernel name 'a,b=c' is not a valid name"])
     expect(mfv, "a kernel named 'external:pysph'", ["--plugin", external, "list"], 2,
