@@ -45,7 +45,8 @@ ResolvedCase resolve_problem_and_analysis(const Registries& plugins, const std::
       throw InputError(fmt::format(
           "unknown parameter '{}' of problem '{}' (analysis '{}'); the problem's: {}; the "
           "analysis's: {}",
-          k, name, rc.analysis, fmt::join(keys_of(plugins.problems.entry(name).schema), ", "),
+          shown_name(k), name, rc.analysis,
+          fmt::join(keys_of(plugins.problems.entry(name).schema), ", "),
           analysis_keys.empty() ? std::string("none")
                                 : fmt::format("{}", fmt::join(analysis_keys, ", "))));
     rc.analysis_given.set(k, v);
@@ -92,7 +93,7 @@ ResolvedCase resolve_case(const Registries& plugins, const CaseSpec& spec) {
       throw InputError(fmt::format(
           "unknown parameter '{}' of method '{}' (analysis '{}'); {}the method's: {}; the "
           "analysis's: {}",
-          k, spec.method, rc.analysis, did_you_mean(k, valid),
+          shown_name(k), spec.method, rc.analysis, did_you_mean(k, valid),
           fmt::join(keys_of(method_schema), ", "),
           analysis_keys.empty() ? std::string("none")
                                 : fmt::format("{}", fmt::join(analysis_keys, ", "))));

@@ -334,7 +334,8 @@ int main(int argc, char** argv) {
         std::find(names.begin(), names.end(), argv[1]) == names.end()) {
       std::cerr << fmt::format("mfv: input error: unknown subcommand '{}'; {}subcommands: {} "
                                "(see mfv --help)\n",
-                               argv[1], mfv::did_you_mean(argv[1], names), fmt::join(names, ", "));
+                               mfv::shown_name(argv[1]), mfv::did_you_mean(argv[1], names),
+                               fmt::join(names, ", "));
       return 2;
     }
     // CLI11's own message, in mfv's voice, with where to read the choices.
@@ -397,6 +398,7 @@ int main(int argc, char** argv) {
           mfv::register_external_solvers(r, specs);
         });
     const mfv::Catalogue catalogue(extensions);
+    mfv::report_registered();
     if (*list) {
       mfv::command_list(catalogue, list_what, out);
       status = flushed(0);

@@ -53,11 +53,18 @@ First& first_of(First& f, Rest&...) {
 /// is fixed in the plugin. Anything thrown that is not a std::exception is named too (it
 /// would otherwise end mfv through std::terminate), and every name the hook added to its
 /// registry (the hook's first argument) must be a valid one.
+std::string& plugin_being_loaded();
+
 template <class... Args>
 std::function<void(Args...)> naming(const std::string& plugin, std::function<void(Args...)> hook) {
   return [plugin, hook = std::move(hook)](Args... args) {
     auto& registry = first_of(args...);
     const auto before = registry.keys();
+    // A hook is the plugin's registration too: exit() in it is refused as in loading (rc 2).
+    struct Registering {
+      explicit Registering(const std::string& p) { plugin_being_loaded() = p; }
+      ~Registering() { plugin_being_loaded().clear(); }
+    } registering(plugin);
     try {
       hook(args...);
     } catch (const std::exception& e) {
@@ -103,7 +110,8 @@ void refuse_plugin_exit() {
   if (const std::string& p = plugin_being_loaded(); !p.empty()) {
     std::fprintf(stderr,
                  "mfv: input error: plugin '%s' called exit() while it was being loaded (in "
-                 "its static initializers or mfv_plugin_register); a plugin's registration "
+                 "its static initializers, mfv_plugin_register or a registration hook); a "
+                 "plugin's registration "
                  "must return, and report a failure by throwing std::runtime_error\n",
                  p.c_str());
     std::fflush(stderr);

@@ -56,11 +56,29 @@ bool adopt_supervision() {
   return true;
 }
 
+namespace {
+// The channel's messages: 'R' (registered), then 'S' and the status byte (finished).
+void send(const unsigned char* bytes, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(channel(), bytes, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return;
+    bytes += w;
+    n -= static_cast<std::size_t>(w);
+  }
+}
+}  // namespace
+
+void report_registered() {
+  if (channel() < 0) return;
+  const unsigned char r = 'R';
+  send(&r, 1);
+}
+
 void report_finished(int status) {
   if (channel() < 0) return;
-  const unsigned char b = static_cast<unsigned char>(status & 0xff);
-  while (::write(channel(), &b, 1) < 0 && errno == EINTR) {
-  }
+  const unsigned char s[2] = {'S', static_cast<unsigned char>(status & 0xff)};
+  send(s, 2);
   ::close(channel());
   channel() = -1;
 }
@@ -106,9 +124,29 @@ std::optional<int> supervise(char** argv, const std::vector<std::string>& plugin
     while (::waitpid(pid, &ignored, 0) < 0 && errno == EINTR) {
     }
   });
-  unsigned char reported = 0;
-  ssize_t got = 0;
-  while ((got = ::read(fds[0], &reported, 1)) < 0 && errno == EINTR) {
+  bool registered = false, finished = false;
+  int reported = 0;
+  for (;;) {
+    unsigned char buf[16];
+    const ssize_t got = ::read(fds[0], buf, sizeof buf);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;
+    for (ssize_t i = 0; i < got; ++i) {
+      if (buf[i] == 'R') registered = true;
+      else if (buf[i] == 'S' && i + 1 < got) {
+        finished = true;
+        reported = buf[++i];
+      } else if (buf[i] == 'S') {  // its status byte in the next read
+        unsigned char b = 0;
+        ssize_t n = 0;
+        while ((n = ::read(fds[0], &b, 1)) < 0 && errno == EINTR) {
+        }
+        if (n == 1) {
+          finished = true;
+          reported = b;
+        }
+      }
+    }
   }
   ::close(fds[0]);
   int ws = 0;
@@ -120,7 +158,7 @@ std::optional<int> supervise(char** argv, const std::vector<std::string>& plugin
   if (waited < 0)
     for (;;) ::pause();
   const std::string names = fmt::format("{}", fmt::join(plugins, ", "));
-  if (got == 1) return static_cast<int>(reported);
+  if (finished) return reported;
   if (WIFSIGNALED(ws)) {
     const int sig = WTERMSIG(ws);
     std::fprintf(stderr,
@@ -136,11 +174,22 @@ std::optional<int> supervise(char** argv, const std::vector<std::string>& plugin
     ::raise(sig);
     return 128 + sig;
   }
+  const int code = WIFEXITED(ws) ? WEXITSTATUS(ws) : -1;
+  if (!registered) {
+    std::fprintf(stderr,
+                 "mfv: input error: a plugin ended the process (status %d) while the plugins "
+                 "were being registered (static initializers, mfv_plugin_register or a "
+                 "registration hook; plugins loaded: %s); a plugin's registration must return, "
+                 "and report a failure by throwing std::runtime_error\n",
+                 code, names.c_str());
+    std::fflush(stderr);
+    return 2;
+  }
   std::fprintf(stderr,
                "mfv: error: the command ended with status %d before it finished: mfv's commands "
                "return, so a plugin's code ended the process (_exit or exit; plugins loaded: "
                "%s)\n",
-               WIFEXITED(ws) ? WEXITSTATUS(ws) : -1, names.c_str());
+               code, names.c_str());
   std::fflush(stderr);
   return 1;
 }

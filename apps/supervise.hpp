@@ -18,6 +18,11 @@ namespace mfv {
 /// is a supervised child.
 bool adopt_supervision();
 
+/// In the child, when the plugins are loaded and their hooks have registered what they add
+/// (the Catalogue is built): an end before this is the plugins' registration failing (the
+/// supervisor ends with 2, as a refused plugin), after it the command's (1).
+void report_registered();
+
 /// In the child, when the command has finished with `status`: reports it to the supervisor.
 /// Nothing outside a supervised child.
 void report_finished(int status);

@@ -137,9 +137,13 @@ elif mode == "wrong":
         elif what == "late-zeros" and k >= len(fs) // 2:
             edit_frame(path, scale(["ux", "uy", "vx", "vy", "sxx", "syy", "sxy"], 0.0))
     if what == "shift":
-        for k in range(len(fs) - 1):
-            os.replace(os.path.join(frames, fs[k + 1]), os.path.join(frames, fs[k]))
-        open(os.path.join(frames, fs[-1]), "w").write(open(os.path.join(frames, fs[-2])).read())
+        # Each frame holds the state a quarter of the run later (the last ones the final
+        # state): wrong by far more than the band. A one-frame shift, as before, moved the
+        # error at 2L/c by less than the band where the frames are dense, which is no fault.
+        d = max(1, len(fs) // 4)
+        texts = [open(os.path.join(frames, f)).read() for f in fs]
+        for k, f in enumerate(fs):
+            open(os.path.join(frames, f), "w").write(texts[min(k + d, len(fs) - 1)])
     os.remove(os.path.join(frames, "energy.csv"))
 elif mode == "zeros":
     for f in fs:

@@ -251,7 +251,8 @@ def prebuilt(mfv):
 
 
 # What each prebuilt plugin must give on `mfv --plugin LIB list` (tests/plugin_test.py).
-PREBUILT_LIST = {"example": "ok", "factory_int": "ok"}
+PREBUILT_LIST = {"example": "ok", "factory_int": "ok", "factory_exits": "ok", "factory_crash": "ok"}
+# (hook_exits, like every other bad one, must be refused: exit 2 naming it.)
 
 
 def command(ctx, rng, lib_args, base):

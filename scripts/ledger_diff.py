@@ -24,9 +24,15 @@ def inside_before(r):
 
 
 def inside_after(r):
+    """Paper inside ours ± (U + tolerance) at every value; None when ours has no U for one
+    (null in paper_inside, or false beside an unknown uncertainty in ledgers before the null)."""
     pi = r.get("paper_inside")
     if not pi:
         return None
+    us = r.get("uncertainty") or []
+    for i, x in enumerate(pi):
+        if x is None or (i < len(us) and "uncertainty" not in us[i]):
+            return None
     return all(pi)
 
 
@@ -42,9 +48,12 @@ def main(argv):
     for k in keys:
         print(f"| {k} | {cb.get(k, 0)} | {ca.get(k, 0)} |")
     print(f"| rows | {len(before)} | {len(after)} |")
-    claims = [r for r in after.values() if r.get("role", "claim") == "claim"]
-    print(f"\nAfter: {len(claims)} claims of the papers, "
-          f"{len(after) - len(claims)} of our own checks.\n")
+    roles = {}
+    for r in after.values():
+        roles[r.get("role", "claim")] = roles.get(r.get("role", "claim"), 0) + 1
+    print(f"\nAfter: {roles.get('claim', 0)} claims of the papers, {roles.get('cost', 0)} claims "
+          f"about CPU time (counted apart), {roles.get('check', 0)} of our own checks. "
+          f"The counts above are each ledger's own (role claim only, where the ledger has roles).\n")
     print("## Removed rows\n")
     for i in sorted(set(before) - set(after)):
         print(f"- `{i}` (was {before[i]['verdict']})")
@@ -56,7 +65,8 @@ def main(argv):
     for i in sorted(set(before) & set(after)):
         b, a = before[i]["verdict"], after[i]["verdict"]
         if b != a:
-            why = (after[i].get("why") or "").replace("|", "\\|").replace("\n", " ")
+            why = (after[i].get("why") or after[i].get("ours_text") or "").replace(
+                "|", "\\|").replace("\n", " ")
             print(f"| `{i}` | {b} | {a} | {why[:300]} |")
     print("\n## Paper value inside ours ± uncertainty (+ tolerance) now, not inside ours ± "
           "tolerance before; and the reverse\n")

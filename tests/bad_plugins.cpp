@@ -12,6 +12,7 @@
 ///   MFV_BAD_FACTORY_EXITS a kernel whose factory calls _exit(0) when a method creates it
 ///                      (while a case runs: no handler can catch it in-process)
 ///   MFV_BAD_FACTORY_CRASH a kernel whose factory dies of SIGSEGV when a method creates it
+///   MFV_BAD_HOOK_EXITS its kernel hook calls _exit(0) (while the catalogue is built)
 ///   MFV_BAD_NAME       registers a kernel named "a,b=c"
 ///   MFV_BAD_EXTERNAL   registers a kernel named "external:pysph"
 #include <unistd.h>
@@ -69,6 +70,10 @@ MFV_PLUGIN(plugin) {
 #endif
           });
   });
+}
+#elif defined(MFV_BAD_HOOK_EXITS)
+MFV_PLUGIN(plugin) {
+  plugin.kernels.push_back([](mfv::KernelRegistry&) { _exit(0); });
 }
 #elif defined(MFV_BAD_EXITS)
 MFV_PLUGIN(plugin) { std::exit(0); }

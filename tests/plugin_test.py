@@ -42,15 +42,15 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--mfv", required=True)
     ap.add_argument("--example", required=True)
-    ap.add_argument("--bad", nargs=13, required=True,
+    ap.add_argument("--bad", nargs=14, required=True,
                     metavar=("STALE", "CLASH", "UNDEFINED", "NO_ENTRY", "THROWS", "THROWS_INT",
                              "HOOK_INT", "FACTORY_INT", "EXITS", "NAME", "EXTERNAL",
-                             "FACTORY_EXITS", "FACTORY_CRASH"))
+                             "FACTORY_EXITS", "FACTORY_CRASH", "HOOK_EXITS"))
     ap.add_argument("--work", required=True)
     a = ap.parse_args()
     mfv, ex = a.mfv, a.example
     (stale, clash, undefined, no_entry, throws, throws_int, hook_int, factory_int, exits,
-     bad_name, external, factory_exits, factory_crash) = a.bad
+     bad_name, external, factory_exits, factory_crash, hook_exits) = a.bad
     shutil.rmtree(a.work, ignore_errors=True)
     os.makedirs(a.work)
 
@@ -163,6 +163,9 @@ def main():
     expect(mfv, "verify of a case whose plugin kernel calls _exit(0) is not a pass",
            ["verify", suite_ends, "--no-report", "--no-history"], 1,
            ["before it finished", "libmfv_bad_plugin_factory_exits.so"])
+    expect(mfv, "a kernel hook that calls _exit(0) is a refused plugin (exit 2)",
+           ["--plugin", hook_exits, "list", "kernels"], 2,
+           ["while the plugins were being registered", "libmfv_bad_plugin_hook_exits.so"])
     expect(mfv, "a kernel factory that dies of SIGSEGV is named and still a crash",
            ["--plugin", factory_crash] + ends, -11,
            ["killed by signal 11", "libmfv_bad_plugin_factory_crash.so"])

@@ -31,7 +31,7 @@ RunRecord flatten(const json& run) {
   RunRecord f;
   const json& studies = run.at("studies");
   static const std::pair<const char*, const char*> kNorms[] = {
-      {"l2", "L2"}, {"h1_seminorm", "H1-seminorm"}, {"energy", "energy"}};
+      {"l2", "L2"}, {"h1", "H1"}, {"h1_seminorm", "H1-seminorm"}, {"energy", "energy"}};
   for (const json& c : run.at("cases")) {
     const std::string id = c.at("id").get<std::string>();
     if (f.numbers.count(id)) continue;  // an id twice (hand-edited file): the first counts

@@ -478,7 +478,8 @@ std::string ledger_csv(const std::vector<LedgerEntry>& entries) {
       x.push_back(num(q.extrapolated));
       g.push_back(num(q.gci));
       k.push_back(convergence_class_name(q.cls));
-      in.push_back(i < c.paper_inside.size() ? (c.paper_inside[i] ? "yes" : "no") : "");
+      in.push_back(i < c.paper_inside.size() && q.known() ? (c.paper_inside[i] ? "yes" : "no")
+                                                            : "");
       why.push_back(q.why_none);
     }
     using Column = const std::vector<std::string>*;

@@ -487,7 +487,13 @@ json ledger_json(const Ledger& ledger, const std::vector<LedgerEntry>& entries,
       json us = json::array();
       for (const Uncertainty& u : c.uncertainty) us.push_back(uncertainty_json(u));
       r["uncertainty"] = us;
-      r["paper_inside"] = c.paper_inside;
+      // null where ours has no uncertainty: inside or not is then not known.
+      json inside = json::array();
+      for (std::size_t i = 0; i < c.paper_inside.size(); ++i)
+        inside.push_back(i < c.uncertainty.size() && c.uncertainty[i].known()
+                             ? json(bool(c.paper_inside[i]))
+                             : json());
+      r["paper_inside"] = inside;
       if (row.kind == LedgerRow::Kind::finding) {
         r["uncertainty_of"] = c.uncertainty_of;
         json numbers = json::array();

@@ -47,6 +47,14 @@ std::vector<std::string> near_matches(std::string_view name, const std::vector<s
   return out;
 }
 
+std::string shown_name(std::string_view name) {
+  if (name.size() <= 120) return std::string(name);
+  // Cut at a character boundary: a UTF-8 continuation byte is 10xxxxxx.
+  std::size_t cut = 60;
+  while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;
+  return fmt::format("{}… ({} characters)", name.substr(0, cut), name.size());
+}
+
 std::string did_you_mean(std::string_view name, const std::vector<std::string>& valid) {
   const auto near = near_matches(name, valid, 2);
   if (near.empty()) return {};

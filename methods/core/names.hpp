@@ -19,6 +19,11 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 std::vector<std::string> near_matches(std::string_view name, const std::vector<std::string>& valid,
                                       std::size_t limit = 3);
 
+/// A refused name as a message shows it: whole up to 120 characters, else its first 60 and
+/// how long it was ("xxxx… (10000 characters)"), so that a 10 kB name does not make a 10 kB
+/// message (issue 45, F16).
+std::string shown_name(std::string_view name);
+
 /// "did you mean 'x'? " or "did you mean 'x' or 'y'? " (with the trailing space), or "" when
 /// no valid name is near: the prefix of a refusal's fix.
 std::string did_you_mean(std::string_view name, const std::vector<std::string>& valid);

@@ -250,7 +250,8 @@ Params Params::resolve(const ParamSchema& schema, const std::string& owner) cons
   for (const auto& [key, value] : values_) {
     const ParamSpec* spec = find_spec(schema, key);
     if (!spec)
-      throw InputError(fmt::format("unknown parameter '{}' for {}; {}valid parameters: {}", key,
+      throw InputError(fmt::format("unknown parameter '{}' for {}; {}valid parameters: {}",
+                                   shown_name(key),
                                    owner, did_you_mean(key, spec_names(schema)),
                                    join_names(schema)));
     auto [it, fresh] = given.try_emplace(spec->name, key, value);

@@ -42,7 +42,7 @@ class Registry {
   const Entry& entry(const std::string& name) const {
     auto it = entries_.find(name);
     if (it == entries_.end())
-      throw InputError(fmt::format("unknown {} '{}'; {}valid {}s: {}", kind_, name,
+      throw InputError(fmt::format("unknown {} '{}'; {}valid {}s: {}", kind_, shown_name(name),
                                    did_you_mean(name, keys()), kind_, fmt::join(keys(), ", ")));
     return it->second;
   }
