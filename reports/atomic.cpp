@@ -165,6 +165,22 @@ bool is_pid_suffix(const std::string& s) {
          std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
+/// A staging marker as mfv writes it for this directory: "mfv-staging 1" and the pid of the
+/// directory's suffix (a marker that is only a file of that name, or names another pid, is
+/// not taken for mfv's: the directory stays, with what it holds; F18). The target is the
+/// directory's name already, and may have been spelled another way by the dead run.
+bool staging_marker_is_ours(const fs::path& dir, const std::string& pid) {
+  std::error_code ec;
+  const fs::path m = dir / kStagingMarker;
+  if (fs::symlink_status(m, ec).type() != fs::file_type::regular || fs::file_size(m, ec) > 4096)
+    return false;
+  std::ifstream in(m);
+  std::string first, pid_line;
+  std::getline(in, first);
+  std::getline(in, pid_line);
+  return first == "mfv-staging 1" && pid_line == "pid " + pid;
+}
+
 /// Whether the process `pid` (decimal) is alive. Our own pid counts as dead: a directory
 /// named after it before we created ours was left by an earlier process of that pid.
 bool pid_alive(const std::string& pid) {
@@ -378,10 +394,27 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
   // replaced by a newer one) between open and flock: lock again until the path is ours.
   for (int attempt = 0; lock_fd_ < 0; ++attempt) {
     const int fd = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0666);
-    if (fd < 0)
+    if (fd < 0) {
+      const int err = errno;
+      struct stat st {};
+      // O_NOFOLLOW refuses a link with ELOOP: name what it is (F18: the message said the
+      // directory was not writable), and that mfv never follows or removes it.
+      if (err == ELOOP && ::lstat(lock_.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
+        throw InputError(fmt::format("the lock file '{}' of report '{}' is a symbolic link, "
+                                     "which mfv never makes, follows or removes; remove the "
+                                     "link or choose another report directory",
+                                     lock_.string(), target_.string()));
+      if (err == ENXIO || err == EISDIR || (::lstat(lock_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)))
+        throw InputError(fmt::format("the lock file '{}' of report '{}' is {}, not a file of "
+                                     "mfv's; remove it or choose another report directory",
+                                     lock_.string(), target_.string(),
+                                     ::lstat(lock_.c_str(), &st) == 0 && S_ISDIR(st.st_mode)
+                                         ? "a directory"
+                                         : "a special file"));
       throw InputError(fmt::format("cannot write into '{}' for report '{}': {}; choose a writable "
                                    "report directory",
-                                   dir.string(), target_.string(), errno_text(errno)));
+                                   dir.string(), target_.string(), errno_text(err)));
+    }
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       ::close(fd);
@@ -417,7 +450,7 @@ StagedDirectory::StagedDirectory(fs::path target, Options options)
           continue;
         if (pid_alive(n.substr(prefix.size()))) continue;
         std::error_code ignored;
-        if (fs::symlink_status(e.path() / kStagingMarker, ignored).type() == fs::file_type::regular ||
+        if (staging_marker_is_ours(e.path(), n.substr(prefix.size())) ||
             read_report_marker(e.path())) {
           remove_marked_last(e.path());
           continue;

@@ -390,8 +390,9 @@ def kind_case(ctx, kind, rng, i, base):
             y = ctx.B
         dh = digest(hist)
         # An exit 2 names a run id or the history (a damaged one is the history's fault).
+        given = extra[1] if extra else hist
         r = diff(ctx, base, x, y, extra, expect=expect, what=f"run ids ({c})",
-                 names=[x, y, hist, os.path.basename(hist)])
+                 names=[x, y, given, os.path.basename(given)])
         if not r[2] and changed(dh, digest(hist)):
             return r[0], r[1], f"diff changed the history: {changed(dh, digest(hist))}", None
         return r

@@ -132,6 +132,23 @@ TEST(ReportTarget, DotAndEmptyNamesAreRefused) {
     EXPECT_THROW(check_report_target(p, false), InputError) << p;
 }
 
+// F18: a lock file that is a symbolic link is named as one (the message said the directory
+// was not writable), and the file it points at is never touched.
+TEST(ReportTarget, ALockFileThatIsALinkIsNamedAndNotFollowed) {
+  TempDir dir;
+  test::write_text(dir.path() / "precious.txt", "mine");
+  fs::create_symlink("precious.txt", dir.path() / ".run.mfv-lock");
+  try {
+    write_report(dir.path() / "run", "new");
+    FAIL() << "a linked lock file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a symbolic link"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_file(dir.path() / "precious.txt"), "mine");
+  EXPECT_TRUE(fs::is_symlink(dir.path() / ".run.mfv-lock"));
+  EXPECT_FALSE(fs::exists(dir.path() / "run"));
+}
+
 TEST(ReportTarget, SecondWriterIsRefusedUntilTheFirstIsDone) {
   TempDir dir;
   const auto target = dir.path() / "run";
@@ -154,7 +171,13 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   const auto target = dir.path() / "run";
   // A dead run's staging directory (its marker) and old copy (the previous report's marker).
   test::write_text(dir.path() / ".run.staging-999999" / "index.md", "dead run");
-  test::write_text(dir.path() / ".run.staging-999999" / kStagingMarker, "mfv-staging 1\n");
+  test::write_text(dir.path() / ".run.staging-999999" / kStagingMarker,
+                   "mfv-staging 1\npid 999999\ntarget " + target.string() + "\n");
+  // F18: a marker that is only a file of that name (no pid), or names another pid, is not
+  // mfv's: the directory and what it holds stay.
+  test::write_text(dir.path() / ".run.staging-999989" / kStagingMarker, "mfv-staging 1\n");
+  test::write_text(dir.path() / ".run.staging-999989" / "thesis.tex", "a user's chapter");
+  test::write_text(dir.path() / ".run.staging-999988" / kStagingMarker, "mfv-staging 1\npid 5\n");
   test::write_text(dir.path() / ".run.old-999998" / "index.md", "dead run");
   test::write_text(dir.path() / ".run.old-999998" / kReportMarker, "mfv-report 1\nsuite -\n");
   fs::create_directories(dir.path() / ".run.old-999996");  // empty: nothing to lose
@@ -180,12 +203,14 @@ TEST(ReportTarget, DeadRunsStagingIsCleanedAndNothingElse) {
   write_report(target, "new");
   EXPECT_EQ(names_in(dir.path()),
             (std::vector<std::string>{".other.staging-999997", ".run.staging-1",
+                                      ".run.staging-999988", ".run.staging-999989",
                                       ".run.staging-999990", ".run.staging-999992", ".run.staging-999993",
                                       ".run.staging-999995",
                                       ".run.staging-notes", "run"}));
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999993" / "data.csv"), "a user's file");
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999992" / kReportMarker), "a user's notes");
   EXPECT_EQ(read_file(dir.path() / ".run.staging-999995" / "thesis.tex"), "a user's directory");
+  EXPECT_EQ(read_file(dir.path() / ".run.staging-999989" / "thesis.tex"), "a user's chapter");
   // The staging marker never reaches the report.
   EXPECT_FALSE(fs::exists(target / kStagingMarker));
 }
@@ -217,7 +242,7 @@ TEST(ReportTarget, AZombiesStagingIsCleaned) {
   ASSERT_GT(child, 0);
   ::usleep(100000);  // the child has exited and, unreaped, is a zombie
   const auto staging = dir.path() / fmt::format(".run.staging-{}", child);
-  test::write_text(staging / kStagingMarker, "mfv-staging 1\n");
+  test::write_text(staging / kStagingMarker, fmt::format("mfv-staging 1\npid {}\n", child));
   test::write_text(staging / "index.md", "a killed rank's");
   write_report(dir.path() / "run", "new");
   EXPECT_FALSE(fs::exists(staging));
