@@ -362,7 +362,13 @@ int command_run(const Catalogue& c, const RunOptions& o, std::ostream& out) {
     return status;
   }
   if (!o.vtk.empty()) {
+    // Checked again when written (issue 45): a file of the user's created there while the
+    // case ran is kept and the refusal named, as for verify's JUnit file and baseline.
+    check_output_file(o.vtk, "VTK file", is_vtk_xml);
     if (r.components > 1) {
+      std::filesystem::path quad = o.vtk;
+      quad.replace_extension(".quadrature.vtp");
+      check_output_file(quad, "VTK file", is_vtk_xml);
       write_particles_vtp(o.vtk, r);
       std::filesystem::path q = o.vtk;
       q.replace_extension(".quadrature.vtp");
