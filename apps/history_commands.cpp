@@ -33,7 +33,15 @@ int command_diff(const DiffCommandOptions& o, std::ostream& out) {
     const bool digits = !what.empty() && std::all_of(what.begin(), what.end(), [](char ch) {
       return std::isdigit(static_cast<unsigned char>(ch));
     });
-    if (!digits || std::filesystem::exists(what, ec)) return run_record(load_run_results(what));
+    if (!digits || std::filesystem::exists(what, ec)) {
+      const nlohmann::json doc = load_run_results(what);
+      try {
+        return run_record(doc);
+      } catch (const InputError& e) {
+        // Which of the two runs has the wrong layout (issue 45's fuzz_diff: it was not said).
+        throw InputError(fmt::format("'{}': {}", what, e.what()));
+      }
+    }
     if (o.history.empty())
       throw InputError(fmt::format("mfv diff: '{}' is a run id; name the history it is in with "
                                    "--history FILE",

@@ -181,10 +181,50 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   if (spawn_error != 0) return -2;
+  // Killed by SIGKILL (no handler runs), mfv still takes the solver's group with it: a
+  // watchdog shell holds the read end of a pipe whose write end only mfv has (close-on-exec);
+  // when mfv dies, any way, the pipe ends and the watchdog kills the group (issue 45: a solver
+  // outlived a SIGKILLed mfv). At the case's end mfv kills and reaps the watchdog first, so
+  // its kill never runs once the group is gone (its pid may then be another's).
+  int watch[2] = {-1, -1};
+  pid_t watchdog = 0;
+  if (::pipe2(watch, O_CLOEXEC) == 0) {
+    posix_spawn_file_actions_t wa;
+    posix_spawn_file_actions_init(&wa);
+    posix_spawn_file_actions_adddup2(&wa, watch[0], 0);
+    posix_spawn_file_actions_addopen(&wa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&wa, 2, "/dev/null", O_WRONLY, 0);
+    posix_spawnattr_t wattr;
+    posix_spawnattr_init(&wattr);
+    posix_spawnattr_setflags(&wattr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    sigset_t ignored_none;
+    sigemptyset(&ignored_none);
+    posix_spawnattr_setsigmask(&wattr, &ignored_none);
+    posix_spawnattr_setsigdefault(&wattr, &deflt);
+    // dash, /bin/sh on Debian, takes no "--": "kill -KILL -PGID" names the group.
+    const std::string script = fmt::format("read x; kill -KILL -{}", pid);
+    const char* wargv[] = {"/bin/sh", "-c", script.c_str(), nullptr};
+    if (posix_spawn(&watchdog, "/bin/sh", &wa, &wattr, const_cast<char**>(wargv), environ) != 0)
+      watchdog = 0;
+    posix_spawn_file_actions_destroy(&wa);
+    posix_spawnattr_destroy(&wattr);
+    ::close(watch[0]);  // the write end stays open in mfv until it exits
+  }
+  // Ends the watchdog (its kill not run), then closes mfv's end of its pipe.
+  auto end_watchdog = [watchdog, fd = watch[1]] {
+    if (watchdog > 0) {
+      ::kill(watchdog, SIGKILL);
+      int ignored = 0;
+      while (::waitpid(watchdog, &ignored, 0) < 0 && errno == EINTR) {
+      }
+    }
+    if (fd >= 0) ::close(fd);
+  };
   // Killed itself (SIGINT, SIGTERM, SIGHUP), mfv takes the solver's group with it: the group
   // is the solver's own, so the signal does not reach it, and it would run on, orphaned.
-  const OnSignal kill_group([pid, &children_before] {
+  const OnSignal kill_group([pid, &children_before, &end_watchdog] {
     ::kill(-pid, SIGKILL);
+    end_watchdog();
     reap_descendants(children_before);
   });
   int status = 0;
@@ -213,6 +253,7 @@ int spawn_and_wait(const std::vector<std::string>& argv, const fs::path& dir,
   wall = seconds_since(t0);
   // Whatever the solver left running goes with it: its group, and what left the group.
   ::kill(-pid, SIGKILL);
+  end_watchdog();
   reap_descendants(children_before);
   if (timed_out) return -1;
   if (WIFEXITED(status)) return WEXITSTATUS(status);

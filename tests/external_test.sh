@@ -181,6 +181,18 @@ for _ in $(seq 40); do pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/nu
 pgrep -f "fake.py sleep $work/tmp/mfv-external" > /dev/null && fail "kill: the solver outlived mfv"
 [ -z "$(ls -A "$work/tmp")" ] || { ls -la "$work/tmp"; fail "kill: the case directory outlived mfv"; }
 ok
+# Issue 45: mfv killed by SIGKILL (no handler of its runs): its watchdog, which holds a pipe
+# only mfv writes to, kills the solver's group when mfv is gone (the solver ran on before).
+mkdir -p "$work/tmp3"
+TMPDIR="$work/tmp3" "$mfv" run rod-pulse -m external:fake-sleep -n 25 > "$work/killed9.out" 2>&1 &
+victim=$!
+for _ in $(seq 100); do pgrep -f "fake.py sleep $work/tmp3/mfv-external" > /dev/null && break; sleep 0.05; done
+pgrep -f "fake.py sleep $work/tmp3/mfv-external" > /dev/null || fail "kill -9: the solver did not start"
+kill -KILL $victim
+wait $victim
+for _ in $(seq 40); do pgrep -f "fake.py sleep $work/tmp3/mfv-external" > /dev/null || break; sleep 0.05; done
+pgrep -f "fake.py sleep $work/tmp3/mfv-external" > /dev/null && fail "kill -9: the solver outlived mfv"
+ok
 # Issue 45: a solver's descendant that calls setsid() dies with the case (mfv is its
 # subreaper); a dead run's case directory is swept by the next run, a kept one is not.
 rm -f "$work/escaped"
